@@ -1,0 +1,107 @@
+// octray/scene.hpp — scene authoring types (array-of-structures, double).
+//
+// This is what the JSON loader produces and what an engine may build by hand.
+// Invariants (the loader checks them; `validate` re-checks a hand-built scene):
+// directions are unit length, radii and extents are positive, material indices
+// are in range, every number is finite. Field meanings follow DESIGN.md and
+// the seed (../shared/seed/lights-and-materials.md, eq. 1, 3, 6, 7, 8).
+#pragma once
+
+#include <octray/vec3.hpp>
+
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace octray {
+
+enum class CameraType { pinhole, orthographic };
+
+struct Camera {
+    CameraType type = CameraType::pinhole;
+    Vec3d eye{0, 0, 5};
+    Vec3d look_at{0, 0, 0};
+    Vec3d up{0, 1, 0};      // unit length, not parallel to eye - look_at
+    double fov_y = 45.0;    // degrees, pinhole only, in (0, 180)
+    double height_world = 2.0;  // orthographic only, > 0
+    int width = 320;
+    int height = 240;
+};
+
+// Matte material: Lambertian BRDF, seed eq. 7-8.
+struct Material {
+    std::string name;
+    double ka = 0.25;  // ambient reflection coefficient, >= 0
+    double kd = 0.65;  // diffuse reflection coefficient, >= 0
+    Vec3d cd{1, 1, 1}; // diffuse colour, components >= 0
+};
+
+// Ambient light, seed eq. 1: incident radiance ls * color everywhere.
+struct AmbientLight {
+    Vec3d color{1, 1, 1};
+    double ls = 1.0;
+};
+
+enum class Attenuation { none, inverse_square };
+
+// Directional light, seed eq. 3. `direction` is unit and points from the
+// surface toward the light (the seed's l).
+struct DirectionalLight {
+    Vec3d direction{0, 1, 0};
+    Vec3d color{1, 1, 1};
+    double ls = 1.0;
+    bool shadows = false;
+};
+
+// Point light, seed eq. 6; 1/r^2 only with Attenuation::inverse_square.
+struct PointLight {
+    Vec3d position{0, 0, 0};
+    Vec3d color{1, 1, 1};
+    double ls = 1.0;
+    Attenuation attenuation = Attenuation::none;
+    bool shadows = false;
+};
+
+struct Sphere { Vec3d center; double radius = 1; };
+struct Plane { Vec3d point; Vec3d normal{0, 1, 0}; };           // normal unit
+struct Disk { Vec3d center; Vec3d normal{0, 1, 0}; double radius = 1; };
+struct Rectangle { Vec3d corner; Vec3d a{1, 0, 0}; Vec3d b{0, 1, 0}; };  // corner + s*a + t*b, s,t in [0,1]
+struct Box { Vec3d min; Vec3d max{1, 1, 1}; };                   // axis-aligned, min < max
+struct Triangle { Vec3d v0, v1{1, 0, 0}, v2{0, 1, 0}; };
+
+using Shape = std::variant<Sphere, Plane, Disk, Rectangle, Box, Triangle>;
+
+enum class PrimitiveType { sphere = 0, plane, disk, rectangle, box, triangle };
+inline constexpr int kPrimitiveTypeCount = 6;
+inline constexpr const char* primitive_type_name(PrimitiveType t) {
+    constexpr const char* names[] = {"sphere", "plane", "disk", "rectangle", "box", "triangle"};
+    return names[static_cast<int>(t)];
+}
+inline PrimitiveType primitive_type(const Shape& s) { return static_cast<PrimitiveType>(s.index()); }
+
+struct Object {
+    Shape shape;
+    int material = 0;  // index into Scene::materials
+};
+
+enum class ToneMap { max_to_one, clamp_to_color, saturate };
+
+struct RenderSettings {
+    ToneMap tonemap = ToneMap::max_to_one;
+    Vec3d clamp_color{1, 0, 0};
+    double gamma = 1.0;  // > 0; display colour is c^(1/gamma)
+};
+
+struct Scene {
+    Camera camera;
+    Vec3d background{0, 0, 0};
+    std::optional<AmbientLight> ambient;  // absent: no ambient light
+    std::vector<DirectionalLight> directional_lights;
+    std::vector<PointLight> point_lights;
+    std::vector<Material> materials;
+    std::vector<Object> objects;  // primitive index = position here
+    RenderSettings render;
+};
+
+}  // namespace octray
