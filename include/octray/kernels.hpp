@@ -1,0 +1,81 @@
+// octray/kernels.hpp — the packet kernels' entry points and run-time dispatch.
+//
+// A Kernel is a table of functions for one (path, precision, feature variant,
+// ISA) choice. Obtain one with select_kernel() for a compiled scene, then call
+// its stages on your own packets:
+//
+//     octray::PacketScene scene = octray::compile(authoring_scene);
+//     octray::Kernel k = octray::select_kernel(scene, octray::Path::simd);
+//     int masked = k.intersect(scene, rays, hits);   // lanes masked off for bad input
+//     k.shade(scene, rays, hits, radiance);            // HDR radiance
+//     k.tonemap(scene, radiance, display);             // display colour in [0,1]
+//
+// All stages are noexcept, allocate nothing, touch no global state and only
+// read the PacketScene, so any number of threads may share one scene.
+#pragma once
+
+#include <octray/features.hpp>
+#include <octray/image.hpp>
+#include <octray/packet.hpp>
+#include <octray/packet_scene.hpp>
+#include <octray/precision.hpp>
+
+#include <cstdint>
+#include <string>
+
+namespace octray {
+
+enum class Path {
+    scalar,  // the kernel at one float lane, run lane by lane: the speed baseline
+    simd,    // the same kernel at 8 float lanes (AVX2 + FMA)
+};
+inline constexpr const char* path_name(Path p) { return p == Path::scalar ? "scalar" : "simd"; }
+
+using IntersectFn = int (*)(const PacketScene&, const RayPacket8&, HitPacket8&) noexcept;
+using OccludedFn = void (*)(const PacketScene&, const RayPacket8&, std::int32_t* occluded) noexcept;
+using ShadeFn = void (*)(const PacketScene&, const RayPacket8&, const HitPacket8&, ColorPacket8&) noexcept;
+using TonemapFn = void (*)(const PacketScene&, const ColorPacket8&, ColorPacket8&) noexcept;
+using CameraFn = void (*)(const PacketScene&, int x0, int y, RayPacket8&) noexcept;
+
+struct Kernel {
+    IntersectFn intersect = nullptr;  // closest hit; returns lanes masked off (active but invalid)
+    OccludedFn occluded = nullptr;    // any hit in (tmin, tmax); occluded[i] = -1 or 0
+    ShadeFn shade = nullptr;          // HDR radiance; misses and inactive lanes get the background
+    TonemapFn tonemap = nullptr;      // scene's tone map and gamma; NaN/inf map into gamut
+    CameraFn camera = nullptr;        // pixels (x0..x0+7, y); lanes past the width are inactive
+    Path path = Path::simd;
+    Precision precision = Precision::exact;
+    const char* isa = "";             // instruction set the code was compiled for
+    unsigned primitive_bits = 0;      // primitive types compiled into intersect
+    unsigned light_bits = 0;          // light features compiled into shade
+
+    std::string name() const;         // e.g. "simd/avx2/exact [sphere+plane | directional]"
+};
+
+// Kernel specialized to exactly the scene's features (see features.hpp).
+// Path::simd needs AVX2+FMA at run time; without them it returns the scalar
+// path's kernel and says so in Kernel::isa ("generic"), never silently.
+Kernel select_kernel(const PacketScene& scene, Path path, Precision precision = Precision::exact);
+// The kernel compiled with every feature, whatever the scene uses.
+Kernel general_kernel(Path path, Precision precision = Precision::exact);
+// True when this CPU runs the AVX2+FMA code.
+bool simd_supported();
+
+struct RenderCounters {
+    std::uint64_t rays = 0;    // camera rays traced
+    std::uint64_t masked = 0;  // lanes masked off for invalid input
+};
+
+// Renders image rows [y0, y1) with 8-pixel camera tiles. `hdr` receives the
+// radiance, `display` (optional) the tone-mapped colour. Rows are independent:
+// disjoint row ranges may be rendered concurrently into the same images.
+// `primitive_ids` (optional, width*height, row-major) receives each pixel's
+// Scene::objects index, -1 on a miss.
+void render_rows(const Kernel& kernel, const PacketScene& scene, int y0, int y1, Image<float>& hdr,
+                 Image<float>* display, RenderCounters* counters = nullptr,
+                 std::int32_t* primitive_ids = nullptr) noexcept;
+
+// 8-bit conversion of a display image: floor(255 c + 0.5), c clamped to [0,1].
+ImageRGB8 quantize(const Image<float>& display);
+
+}  // namespace octray

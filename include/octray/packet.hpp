@@ -1,0 +1,45 @@
+// octray/packet.hpp — structure-of-arrays ray, hit and colour packets.
+//
+// An engine fills a RayPacket with its own rays and hands it to the kernels
+// (octray/kernels.hpp). Every array is 32-byte aligned so an 8-lane AVX2
+// kernel loads each component with one aligned load. A lane takes part only
+// where `active[i] != 0`; inactive lanes are never read beyond that flag and
+// come out as misses with the background colour.
+#pragma once
+
+#include <cstdint>
+
+namespace octray {
+
+inline constexpr int kPacketWidth = 8;
+
+template <int W = kPacketWidth>
+struct alignas(32) RayPacket {
+    static constexpr int width = W;
+    alignas(32) float ox[W], oy[W], oz[W];  // origin
+    alignas(32) float dx[W], dy[W], dz[W];  // direction (any non-zero length)
+    alignas(32) float tmin[W], tmax[W];     // open interval (tmin, tmax) of valid t
+    alignas(32) std::int32_t active[W];     // non-zero: trace this lane
+};
+
+template <int W = kPacketWidth>
+struct alignas(32) HitPacket {
+    static constexpr int width = W;
+    alignas(32) float t[W];                 // hit distance along d (in units of |d|)
+    alignas(32) std::int32_t primitive[W];  // Scene::objects index, -1 on a miss
+    alignas(32) std::int32_t material[W];   // Scene::materials index, -1 on a miss
+    alignas(32) float nx[W], ny[W], nz[W];  // unit normal facing the ray (n.d <= 0)
+    alignas(32) std::int32_t hit[W];        // -1 where the lane hit something, else 0
+};
+
+template <int W = kPacketWidth>
+struct alignas(32) ColorPacket {
+    static constexpr int width = W;
+    alignas(32) float r[W], g[W], b[W];
+};
+
+using RayPacket8 = RayPacket<8>;
+using HitPacket8 = HitPacket<8>;
+using ColorPacket8 = ColorPacket<8>;
+
+}  // namespace octray

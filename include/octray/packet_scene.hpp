@@ -1,0 +1,97 @@
+// octray/packet_scene.hpp — a scene compiled for the packet kernels.
+//
+// Structure of arrays per primitive type and per light type, in float, each
+// array padded to a multiple of the packet width and 64-byte aligned. Only the
+// types a scene has are filled. Primitives are renumbered type by type
+// ("compiled id" = offset[type] + index within type); `object_of` maps a
+// compiled id back to its Scene::objects index. A PacketScene is immutable
+// after compile(): share one across threads freely.
+#pragma once
+
+#include <octray/features.hpp>
+#include <octray/scene.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+namespace octray {
+
+template <class T, std::size_t Align = 64>
+struct AlignedAllocator {
+    using value_type = T;
+    template <class U>
+    struct rebind { using other = AlignedAllocator<U, Align>; };
+    AlignedAllocator() = default;
+    template <class U>
+    AlignedAllocator(const AlignedAllocator<U, Align>&) noexcept {}
+    T* allocate(std::size_t n) {
+        std::size_t bytes = (n * sizeof(T) + Align - 1) / Align * Align;
+        if (void* p = std::aligned_alloc(Align, bytes == 0 ? Align : bytes)) return static_cast<T*>(p);
+        throw std::bad_alloc();
+    }
+    void deallocate(T* p, std::size_t) noexcept { std::free(p); }
+    friend bool operator==(const AlignedAllocator&, const AlignedAllocator&) { return true; }
+    friend bool operator!=(const AlignedAllocator&, const AlignedAllocator&) { return false; }
+};
+template <class T>
+using AlignedVector = std::vector<T, AlignedAllocator<T>>;
+using Floats = AlignedVector<float>;
+
+struct SphereArrays { Floats cx, cy, cz, radius2, inv_radius; };
+struct PlaneArrays { Floats px, py, pz, nx, ny, nz; };
+struct DiskArrays { Floats cx, cy, cz, nx, ny, nz, radius2; };
+// p = corner + s a + t b; s = (p - corner).dual_a, t = (p - corner).dual_b.
+struct RectangleArrays { Floats cx, cy, cz, nx, ny, nz, dual_ax, dual_ay, dual_az, dual_bx, dual_by, dual_bz; };
+struct BoxArrays { Floats minx, miny, minz, maxx, maxy, maxz; };
+// Vertices kept as given: the watertight test works in ray-relative space.
+struct TriangleArrays { Floats x0, y0, z0, x1, y1, z1, x2, y2, z2, nx, ny, nz; };
+
+// ls * color premultiplied per light; shadows as 0/1 floats.
+struct DirectionalArrays { Floats lx, ly, lz, r, g, b, shadows; };
+struct PointArrays { Floats px, py, pz, r, g, b, shadows; };
+
+struct PacketCamera {
+    bool orthographic = false;
+    float eye[3]{}, u[3]{}, v[3]{}, w[3]{};
+    float scale_x = 1, scale_y = 1;  // tan(fov/2)*aspect, tan(fov/2)  (or height_world/2 * ...)
+    int width = 0, height = 0;
+};
+
+struct PacketScene {
+    Features features;
+    std::array<int, kPrimitiveTypeCount> count{};   // primitives per type
+    std::array<int, kPrimitiveTypeCount> offset{};  // first compiled id per type
+    SphereArrays spheres;
+    PlaneArrays planes;
+    DiskArrays disks;
+    RectangleArrays rectangles;
+    BoxArrays boxes;
+    TriangleArrays triangles;
+    Floats object_of;    // compiled id -> Scene::objects index (exact in float below 2^24)
+    Floats material_of;  // compiled id -> Scene::materials index
+
+    int directional_count = 0, point_count = 0, point_attenuated_count = 0;
+    DirectionalArrays directional;
+    PointArrays point;             // attenuation none
+    PointArrays point_attenuated;  // attenuation inverse_square
+
+    // Per material, premultiplied: ka*cd ⋆ ls*cl (seed eq. 7) and kd*cd/pi (eq. 8).
+    Floats ambient_r, ambient_g, ambient_b, diffuse_r, diffuse_g, diffuse_b;
+
+    float background[3]{};
+    PacketCamera camera;
+    ToneMap tonemap = ToneMap::max_to_one;
+    float clamp_color[3]{1, 0, 0};
+    float inv_gamma = 1;
+
+    int primitive_count() const { return count[0] + count[1] + count[2] + count[3] + count[4] + count[5]; }
+};
+
+// Compiles a validated scene. Throws std::invalid_argument when the scene has
+// more than 2^24 primitives or materials (indices travel as exact floats).
+PacketScene compile(const Scene& scene);
+
+}  // namespace octray

@@ -1,0 +1,13 @@
+// kernels/isa_generic.cpp — the scalar path for any x86-64 (no AVX2 assumed):
+// the fallback when the CPU lacks AVX2/FMA. General variant only.
+#define OCTRAY_ISA generic
+#include "packet_kernels.hpp"
+#include "isa_instantiate.hpp"
+
+namespace octray::kernels {
+
+Kernel scalar_generic_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits) {
+    return generic::make_kernel<float, false>(Path::scalar, "generic", precision, primitive_bits, light_bits);
+}
+
+}  // namespace octray::kernels

@@ -1,0 +1,568 @@
+// kernels/packet_kernels.hpp — the packet kernels, written once over a lane type.
+//
+// T is `float` (the scalar path: one lane at a time), `xsimd::batch<float, A>`
+// (the SIMD path) or a double lane type; P is the precision mode; F is the
+// set of features (features.hpp) compiled in: code for a feature outside F is
+// removed at compile time, not skipped at run time.
+//
+// Sources: shading is the seed's eq. 7-8 (ambient + sum of Lambertian terms,
+// n.l clamped at zero), point lights eq. 6. Sphere: stable quadratic with the
+// perpendicular-distance discriminant (pbrt-v4, Pharr et al., sec. 6.8.1).
+// Triangle: Plucker-coordinate edge test evaluated in ray-relative space, so
+// an edge shared by two triangles gives both exactly opposite edge values and a
+// ray through it hits at least one (watertight; Embree's "Plucker" intersector,
+// cf. Woop, Benthin, Wald 2013). Box: slab test (Kay & Kajiya 1986) with the
+// NaN cases resolved explicitly.
+//
+// Each translation unit that includes this file defines OCTRAY_ISA, a name
+// for its instruction set; every template here lives in a namespace of that
+// name, so instantiations compiled with different -m flags never merge at
+// link time (one ISA per translation unit).
+#pragma once
+
+#ifndef OCTRAY_ISA
+#error "define OCTRAY_ISA before including packet_kernels.hpp"
+#endif
+
+#include <octray/features.hpp>
+#include <octray/lane.hpp>
+#include <octray/packet.hpp>
+#include <octray/packet_scene.hpp>
+#include <octray/vec3.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+namespace octray::kernels::OCTRAY_ISA {
+
+using lane::Mask;
+
+// ---- packet <-> lane I/O ---------------------------------------------------
+// A packet of 8 is processed as 8 / width<T> groups; `lane` is the first lane.
+template <class T>
+inline T load(const float* p, int lane) {
+    if constexpr (lane::width<T> == 1) return T(p[lane]);
+    else return T::load_unaligned(p + lane);
+}
+template <class T>
+inline T load_index(const std::int32_t* p, int lane) {
+    if constexpr (lane::width<T> == 1) return T(p[lane]);
+    else return T::load_unaligned(p + lane);  // converts int32 -> float lanes
+}
+template <class T>
+inline void store(float* p, int lane, const T& v) {
+    if constexpr (lane::width<T> == 1) p[lane] = float(v);
+    else v.store_unaligned(p + lane);
+}
+// Stores a small integer carried as an exact float.
+template <class T>
+inline void store_index(std::int32_t* p, int lane, const T& v) {
+    if constexpr (lane::width<T> == 1) {
+        p[lane] = std::int32_t(v);
+    } else {
+        alignas(64) lane::Scalar<T> tmp[lane::width<T>];
+        v.store_aligned(tmp);
+        for (int i = 0; i < lane::width<T>; ++i) p[lane + i] = std::int32_t(tmp[i]);
+    }
+}
+template <class T>
+inline void store_mask(std::int32_t* p, int lane, const Mask<T>& m) {
+    store_index(p, lane, lane::select(m, T(-1), T(0)));
+}
+template <class T>
+inline Mask<T> load_mask(const std::int32_t* p, int lane) {
+    return load_index<T>(p, lane) != T(0);
+}
+template <class T>
+inline T broadcast(const Floats& a, int k) { return T(a[std::size_t(k)]); }
+template <class T>
+inline Vec3<T> broadcast3(const Floats& x, const Floats& y, const Floats& z, int k) {
+    return {T(x[std::size_t(k)]), T(y[std::size_t(k)]), T(z[std::size_t(k)])};
+}
+template <class T>
+inline Vec3<T> gather3(const Floats& x, const Floats& y, const Floats& z, const T& idx) {
+    return {lane::gather(x.data(), idx), lane::gather(y.data(), idx), lane::gather(z.data(), idx)};
+}
+
+template <class T>
+inline T fdot(const Vec3<T>& a, const Vec3<T>& b) { return lane::fma(a.x, b.x, lane::fma(a.y, b.y, a.z * b.z)); }
+
+template <class T>
+inline T inf() { return T(std::numeric_limits<float>::infinity()); }
+
+// ---- rays ------------------------------------------------------------------
+template <class T, Precision P>
+struct Ray {
+    Vec3<T> o, d;
+    T tmin, tmax;
+    Mask<T> valid;  // active and numerically usable
+    // Per-ray quantities shared by every primitive test (hoisted out of the loops).
+    T inv_dd;        // 1 / (d.d)
+    Vec3<T> inv_d;   // 1 / d per axis, +-inf for a zero component
+};
+
+// Loads lanes [lane, lane + width) and masks off what no kernel can trace:
+// inactive lanes, non-finite origin or direction, zero direction, an empty or
+// NaN interval. Masked lanes get a harmless ray so no NaN is ever computed.
+template <class T, Precision P>
+inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
+    Ray<T, P> r;
+    r.o = {load<T>(rp.ox, lane), load<T>(rp.oy, lane), load<T>(rp.oz, lane)};
+    r.d = {load<T>(rp.dx, lane), load<T>(rp.dy, lane), load<T>(rp.dz, lane)};
+    r.tmin = load<T>(rp.tmin, lane);
+    r.tmax = load<T>(rp.tmax, lane);
+    const Mask<T> active = load_mask<T>(rp.active, lane);
+    const T dd = fdot(r.d, r.d);
+    const Mask<T> finite = lane::isfinite(r.o.x) && lane::isfinite(r.o.y) && lane::isfinite(r.o.z) &&
+                           lane::isfinite(r.d.x) && lane::isfinite(r.d.y) && lane::isfinite(r.d.z);
+    // dd must be a positive normal float: a zero or denormal-length direction
+    // has no usable reciprocal; an overflowing one no usable square.
+    const Mask<T> usable_d = dd >= T(std::numeric_limits<float>::min()) && lane::isfinite(dd);
+    const Mask<T> interval = r.tmin < r.tmax && !lane::isnan(r.tmin) && !lane::isnan(r.tmax);
+    r.valid = active && finite && usable_d && interval;
+    masked += lane::count(active && !r.valid);
+    // Replace what was masked off by a ray that hits nothing it could poison.
+    r.o = {lane::select(r.valid, r.o.x, T(0)), lane::select(r.valid, r.o.y, T(0)), lane::select(r.valid, r.o.z, T(0))};
+    r.d = {lane::select(r.valid, r.d.x, T(0)), lane::select(r.valid, r.d.y, T(0)), lane::select(r.valid, r.d.z, T(1))};
+    r.tmin = lane::select(r.valid, r.tmin, T(0));
+    r.tmax = lane::select(r.valid, r.tmax, T(0));  // empty interval: no hit can be accepted
+    r.inv_dd = lane::rcp<P>(lane::select(r.valid, dd, T(1)));
+    // Box slabs need 1/d with a signed infinity for zero components; estimate
+    // modes would turn rcp(0) into NaN through their Newton step.
+    auto inv_axis = [](const T& c) { return lane::select(c == T(0), lane::copysign(inf<T>(), c), lane::rcp<P>(c)); };
+    r.inv_d = {inv_axis(r.d.x), inv_axis(r.d.y), inv_axis(r.d.z)};
+    return r;
+}
+
+// ---- primitive tests ---------------------------------------------------------
+// Each returns the candidate t (anything, NaN included, where `hit` is false)
+// and the hit mask for the open interval (tmin, tbest).
+
+// Sphere. Boundary rule: a tangent ray (discriminant exactly 0) hits.
+// From inside, the far root is the hit. disc/a^2 = r^2 - |f - (f.d/d.d) d|^2
+// never cancels catastrophically for rays passing far from a huge sphere.
+template <class T, Precision P>
+inline T sphere_t(const Ray<T, P>& r, const Vec3<T>& center, const T& radius2, Mask<T>& hit, const T& tbest) {
+    const Vec3<T> f = r.o - center;
+    const T b = fdot(f, r.d);                       // half of the textbook b
+    const Vec3<T> perp = f - r.d * (b * r.inv_dd);  // f minus its projection on d
+    const T disc_per_a = radius2 - fdot(perp, perp);  // (b^2 - a c) / a, no cancellation
+    const T a = fdot(r.d, r.d);
+    const T sd = lane::sqrt(lane::max(disc_per_a * a, T(0)));
+    const T c = fdot(f, f) - radius2;
+    const T q = T(0) - (b + lane::copysign(sd, b));
+    // Stable pair q/a and c/q: never -b + sqrt(...) with the two nearly equal.
+    const T t0 = q * r.inv_dd;
+    const T t1 = lane::div<P>(c, q);
+    const T tnear = lane::min(t0, t1), tfar = lane::max(t0, t1);
+    const T t = lane::select(tnear > r.tmin, tnear, tfar);
+    hit = disc_per_a >= T(0) && t > r.tmin && t < tbest;
+    return t;
+}
+
+// Plane. Boundary rule: a ray parallel to the plane (d.n == 0), including one
+// lying in it, misses.
+template <class T, Precision P>
+inline T plane_t(const Ray<T, P>& r, const Vec3<T>& point, const Vec3<T>& n, Mask<T>& hit, const T& tbest) {
+    const T den = fdot(r.d, n);
+    const T num = fdot(point - r.o, n);
+    const Mask<T> facing = den != T(0);
+    const T t = lane::div<P>(num, lane::select(facing, den, T(1)));
+    hit = facing && t > r.tmin && t < tbest;
+    return t;
+}
+
+// Disk. Boundary rule: the rim |p - c| = r is a hit; parallel rays miss.
+template <class T, Precision P>
+inline T disk_t(const Ray<T, P>& r, const Vec3<T>& center, const Vec3<T>& n, const T& radius2, Mask<T>& hit,
+                const T& tbest) {
+    const T t = plane_t(r, center, n, hit, tbest);
+    const Vec3<T> q = r.o + r.d * t - center;
+    hit = hit && fdot(q, q) <= radius2;
+    return t;
+}
+
+// Rectangle (parallelogram corner + s a + t b). Boundary rule: s, t in the
+// closed [0, 1]: edges and corners are hits; parallel rays miss.
+template <class T, Precision P>
+inline T rectangle_t(const Ray<T, P>& r, const Vec3<T>& corner, const Vec3<T>& n, const Vec3<T>& dual_a,
+                     const Vec3<T>& dual_b, Mask<T>& hit, const T& tbest) {
+    const T t = plane_t(r, corner, n, hit, tbest);
+    const Vec3<T> q = r.o + r.d * t - corner;
+    const T s = fdot(q, dual_a), u = fdot(q, dual_b);
+    hit = hit && s >= T(0) && s <= T(1) && u >= T(0) && u <= T(1);
+    return t;
+}
+
+// Axis-aligned box. Boundary rule: the box is closed (faces, edges and
+// corners hit). A ray with a zero direction component whose origin lies on
+// that slab's plane is inside the slab (0 * inf = NaN there becomes the whole
+// line). From inside, the exit point is the hit.
+template <class T, Precision P>
+inline T box_t(const Ray<T, P>& r, const Vec3<T>& lo, const Vec3<T>& hi, Mask<T>& hit, const T& tbest) {
+    auto slab = [&](const T& o, const T& inv, const T& a, const T& b, T& enter, T& leave) {
+        const T t1 = (a - o) * inv, t2 = (b - o) * inv;
+        const Mask<T> nan = lane::isnan(t1) || lane::isnan(t2);
+        enter = lane::max(enter, lane::select(nan, T(0) - inf<T>(), lane::min(t1, t2)));
+        leave = lane::min(leave, lane::select(nan, inf<T>(), lane::max(t1, t2)));
+    };
+    T enter = T(0) - inf<T>(), leave = inf<T>();
+    slab(r.o.x, r.inv_d.x, lo.x, hi.x, enter, leave);
+    slab(r.o.y, r.inv_d.y, lo.y, hi.y, enter, leave);
+    slab(r.o.z, r.inv_d.z, lo.z, hi.z, enter, leave);
+    const T t = lane::select(enter > r.tmin, enter, leave);
+    hit = enter <= leave && t > r.tmin && t < tbest;
+    return t;
+}
+
+// Triangle, watertight (see the file header). Boundary rule: edges and
+// vertices hit (closed edge tests); a ray in the triangle's plane misses.
+template <class T, Precision P>
+inline T triangle_t(const Ray<T, P>& r, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, Mask<T>& hit,
+                    const T& tbest) {
+    const Vec3<T> v0 = a - r.o, v1 = b - r.o, v2 = c - r.o;
+    // Edge values: signed volumes of (edge, ray); a shared edge evaluates the
+    // same sums and products with opposite sign, exactly.
+    const T e0 = dot(cross(v2 - v0, v2 + v0), r.d);
+    const T e1 = dot(cross(v0 - v1, v0 + v1), r.d);
+    const T e2 = dot(cross(v1 - v2, v1 + v2), r.d);
+    const T lo = lane::min(e0, lane::min(e1, e2)), hi = lane::max(e0, lane::max(e1, e2));
+    const Mask<T> inside = lo >= T(0) || hi <= T(0);
+    const Vec3<T> ng = cross(v1 - v0, v2 - v0);
+    const T den = dot(ng, r.d);
+    const Mask<T> facing = den != T(0);
+    const T t = lane::div<P>(dot(ng, v0), lane::select(facing, den, T(1)));
+    hit = inside && facing && t > r.tmin && t < tbest;
+    return t;
+}
+
+// ---- closest hit -----------------------------------------------------------
+template <class T>
+struct Closest {
+    T t;    // tmax until something is hit
+    T cid;  // compiled id of the hit primitive (exact float), -1 on a miss
+};
+
+template <PrimitiveType Type>
+using TypeTag = std::integral_constant<PrimitiveType, Type>;
+
+// Calls body(TypeTag<type>, count) for each primitive type in F. Absent types
+// are removed at compile time; present ones loop over s.count.
+template <unsigned F, class Body>
+inline void for_each_primitive_type(const PacketScene& s, Body&& body) {
+    if constexpr ((F & kSphere) != 0) body(TypeTag<PrimitiveType::sphere>{}, s.count[0]);
+    if constexpr ((F & kPlane) != 0) body(TypeTag<PrimitiveType::plane>{}, s.count[1]);
+    if constexpr ((F & kDisk) != 0) body(TypeTag<PrimitiveType::disk>{}, s.count[2]);
+    if constexpr ((F & kRectangle) != 0) body(TypeTag<PrimitiveType::rectangle>{}, s.count[3]);
+    if constexpr ((F & kBox) != 0) body(TypeTag<PrimitiveType::box>{}, s.count[4]);
+    if constexpr ((F & kTriangle) != 0) body(TypeTag<PrimitiveType::triangle>{}, s.count[5]);
+}
+
+// Tests primitive k of type `Type` (parameters broadcast from the scene arrays).
+template <PrimitiveType Type, class T, Precision P>
+inline T test_primitive(const PacketScene& s, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
+    if constexpr (Type == PrimitiveType::sphere) {
+        const SphereArrays& a = s.spheres;
+        return sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast<T>(a.radius2, k), hit, tbest);
+    } else if constexpr (Type == PrimitiveType::plane) {
+        const PlaneArrays& a = s.planes;
+        return plane_t(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
+    } else if constexpr (Type == PrimitiveType::disk) {
+        const DiskArrays& a = s.disks;
+        return disk_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast3<T>(a.nx, a.ny, a.nz, k),
+                      broadcast<T>(a.radius2, k), hit, tbest);
+    } else if constexpr (Type == PrimitiveType::rectangle) {
+        const RectangleArrays& a = s.rectangles;
+        return rectangle_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast3<T>(a.nx, a.ny, a.nz, k),
+                           broadcast3<T>(a.dual_ax, a.dual_ay, a.dual_az, k),
+                           broadcast3<T>(a.dual_bx, a.dual_by, a.dual_bz, k), hit, tbest);
+    } else if constexpr (Type == PrimitiveType::box) {
+        const BoxArrays& a = s.boxes;
+        return box_t(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit,
+                     tbest);
+    } else {
+        const TriangleArrays& a = s.triangles;
+        return triangle_t(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
+                          broadcast3<T>(a.x2, a.y2, a.z2, k), hit, tbest);
+    }
+}
+
+template <class T, Precision P, unsigned F>
+inline Closest<T> closest_hit(const PacketScene& s, const Ray<T, P>& r) {
+    Closest<T> best{r.tmax, T(-1)};
+    for_each_primitive_type<F>(s, [&](auto tag, int n) {
+        const int base = s.offset[int(decltype(tag)::value)];
+        for (int k = 0; k < n; ++k) {
+            Mask<T> hit;
+            const T t = test_primitive<decltype(tag)::value, T, P>(s, k, r, hit, best.t);
+            best.t = lane::select(hit, t, best.t);
+            best.cid = lane::select(hit, T(float(base + k)), best.cid);
+        }
+    });
+    return best;
+}
+
+// Unit geometric normal at p for the lanes whose hit has compiled id `cid`,
+// with the scene data gathered per lane; lanes of other types are untouched.
+template <class T, unsigned F>
+inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, const Mask<T>& hit) {
+    Vec3<T> n{T(0), T(0), T(1)};
+    for_each_primitive_type<F>(s, [&](auto tag, int count) {
+        constexpr PrimitiveType type = decltype(tag)::value;
+        const int base = s.offset[int(type)];
+        const Mask<T> mine = hit && cid >= T(float(base)) && cid < T(float(base + count));
+        if (count == 0 || !lane::any(mine)) return;
+        const T k = lane::select(mine, cid - T(float(base)), T(0));
+        Vec3<T> m;
+        if constexpr (type == PrimitiveType::sphere) {
+            const SphereArrays& a = s.spheres;
+            m = (p - gather3(a.cx, a.cy, a.cz, k)) * lane::gather(a.inv_radius.data(), k);
+        } else if constexpr (type == PrimitiveType::plane) {
+            m = gather3(s.planes.nx, s.planes.ny, s.planes.nz, k);
+        } else if constexpr (type == PrimitiveType::disk) {
+            m = gather3(s.disks.nx, s.disks.ny, s.disks.nz, k);
+        } else if constexpr (type == PrimitiveType::rectangle) {
+            m = gather3(s.rectangles.nx, s.rectangles.ny, s.rectangles.nz, k);
+        } else if constexpr (type == PrimitiveType::box) {
+            // The face is the axis where p sits farthest out relative to the
+            // half extent; ties (edges) go to x, then y.
+            const BoxArrays& a = s.boxes;
+            const Vec3<T> lo = gather3(a.minx, a.miny, a.minz, k), hi = gather3(a.maxx, a.maxy, a.maxz, k);
+            const Vec3<T> c = (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
+            const Vec3<T> q = p - c;
+            const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
+            const Mask<T> ax = rx >= ry && rx >= rz, ay = !ax && ry >= rz, az = !ax && !ay;
+            m = {lane::select(ax, lane::copysign(T(1), q.x), T(0)), lane::select(ay, lane::copysign(T(1), q.y), T(0)),
+                 lane::select(az, lane::copysign(T(1), q.z), T(0))};
+        } else {
+            m = gather3(s.triangles.nx, s.triangles.ny, s.triangles.nz, k);
+        }
+        n = {lane::select(mine, m.x, n.x), lane::select(mine, m.y, n.y), lane::select(mine, m.z, n.z)};
+    });
+    return n;
+}
+
+template <class T, Precision P, unsigned F>
+inline int intersect_lanes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp, int lane) {
+    int masked = 0;
+    const Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
+    const Closest<T> best = closest_hit<T, P, F>(s, r);
+    const Mask<T> hit = r.valid && best.cid >= T(0);
+    const T cid = lane::select(hit, best.cid, T(0));
+    const Vec3<T> p = r.o + r.d * best.t;
+    Vec3<T> n = hit_normal<T, F>(s, cid, p, hit);
+    // Face-forward (two-sided shading): the normal opposes the ray.
+    const Mask<T> away = fdot(n, r.d) > T(0);
+    n = {lane::select(away, T(0) - n.x, n.x), lane::select(away, T(0) - n.y, n.y), lane::select(away, T(0) - n.z, n.z)};
+    store(hp.t, lane, lane::select(hit, best.t, inf<T>()));
+    store_index(hp.primitive, lane, lane::select(hit, lane::gather(s.object_of.data(), cid), T(-1)));
+    store_index(hp.material, lane, lane::select(hit, lane::gather(s.material_of.data(), cid), T(-1)));
+    store(hp.nx, lane, lane::select(hit, n.x, T(0)));
+    store(hp.ny, lane, lane::select(hit, n.y, T(0)));
+    store(hp.nz, lane, lane::select(hit, n.z, T(0)));
+    store_mask<T>(hp.hit, lane, hit);
+    return masked;
+}
+
+template <class T, Precision P, unsigned F>
+int intersect_packet(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
+    int masked = 0;
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) masked += intersect_lanes<T, P, F>(s, rp, hp, lane);
+    return masked;
+}
+
+// ---- any hit (shadow rays) -------------------------------------------------
+template <class T, Precision P, unsigned F>
+inline Mask<T> any_hit(const PacketScene& s, const Ray<T, P>& r) {
+    Mask<T> blocked = !r.valid;  // nothing to test on masked lanes
+    for_each_primitive_type<F>(s, [&](auto tag, int n) {
+        for (int k = 0; k < n && !lane::all(blocked); ++k) {
+            Mask<T> hit;
+            test_primitive<decltype(tag)::value, T, P>(s, k, r, hit, r.tmax);
+            blocked = blocked || hit;
+        }
+    });
+    return blocked && r.valid;
+}
+
+template <class T, Precision P, unsigned F>
+void occluded_packet(const PacketScene& s, const RayPacket8& rp, std::int32_t* occluded) noexcept {
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) {
+        int masked = 0;
+        const Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
+        store_mask<T>(occluded, lane, any_hit<T, P, F & kAllPrimitives>(s, r));
+    }
+}
+
+// ---- shading (seed eq. 7-8) ------------------------------------------------
+// Shadow ray from p toward a light at distance `dist` along unit `l`. The
+// origin moves off the surface by a few ulps of |p| along the facing normal so
+// the surface does not shadow itself.
+template <class T, Precision P>
+inline Ray<T, P> shadow_ray(const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist, const Mask<T>& valid) {
+    const T scale = lane::max(lane::max(lane::abs(p.x), lane::abs(p.y)), lane::max(lane::abs(p.z), T(1)));
+    const T eps = scale * T(1e-4f);
+    Ray<T, P> r;
+    r.o = p + n * eps;
+    r.d = l;
+    r.tmin = T(0);
+    r.tmax = dist;
+    r.valid = valid;
+    r.inv_dd = lane::rcp<P>(fdot(l, l));
+    auto inv_axis = [](const T& c) { return lane::select(c == T(0), lane::copysign(inf<T>(), c), lane::rcp<P>(c)); };
+    r.inv_d = {inv_axis(l.x), inv_axis(l.y), inv_axis(l.z)};
+    return r;
+}
+
+// Adds one light's ls*cl * max(0, n.l) [* 1/r^2] to E where `lit`.
+template <class T>
+inline void accumulate(Vec3<T>& e, const Mask<T>& lit, const T& weight, const Vec3<T>& radiance) {
+    const T w = lane::select(lit, weight, T(0));
+    e = {lane::fma(radiance.x, w, e.x), lane::fma(radiance.y, w, e.y), lane::fma(radiance.z, w, e.z)};
+}
+
+template <class T, Precision P, unsigned F>
+inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out, int lane) {
+    const Mask<T> hit = load_mask<T>(hp.hit, lane) && load_mask<T>(rp.active, lane);
+    const Vec3<T> o{load<T>(rp.ox, lane), load<T>(rp.oy, lane), load<T>(rp.oz, lane)};
+    const Vec3<T> d{load<T>(rp.dx, lane), load<T>(rp.dy, lane), load<T>(rp.dz, lane)};
+    const T t = lane::select(hit, load<T>(hp.t, lane), T(0));
+    const Vec3<T> p{lane::select(hit, lane::fma(d.x, t, o.x), T(0)), lane::select(hit, lane::fma(d.y, t, o.y), T(0)),
+                    lane::select(hit, lane::fma(d.z, t, o.z), T(0))};
+    const Vec3<T> n{load<T>(hp.nx, lane), load<T>(hp.ny, lane), load<T>(hp.nz, lane)};
+    const T m = lane::select(hit, load_index<T>(hp.material, lane), T(0));
+
+    Vec3<T> e{T(0), T(0), T(0)};  // sum over lights of ls*cl * n.l [/ r^2]
+    if constexpr ((F & kDirectional) != 0) {
+        const DirectionalArrays& a = s.directional;
+        for (int k = 0; k < s.directional_count; ++k) {
+            const Vec3<T> l = broadcast3<T>(a.lx, a.ly, a.lz, k);
+            const T ndl = fdot(n, l);
+            Mask<T> lit = hit && ndl > T(0);
+            if constexpr ((F & kShadows) != 0) {
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
+                    lit = lit && !any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, l, inf<T>(), lit));
+            }
+            accumulate(e, lit, ndl, broadcast3<T>(a.r, a.g, a.b, k));
+        }
+    }
+    auto point_lights = [&](const PointArrays& a, int count, auto attenuated) {
+        for (int k = 0; k < count; ++k) {
+            const Vec3<T> v = broadcast3<T>(a.px, a.py, a.pz, k) - p;
+            const T r2 = fdot(v, v);
+            const Mask<T> apart = r2 > T(0);  // a light on the surface point lights nothing
+            const T inv_r = lane::rsqrt<P>(lane::select(apart, r2, T(1)));
+            const T ndl = fdot(n, v) * inv_r;
+            Mask<T> lit = hit && apart && ndl > T(0);
+            if constexpr ((F & kShadows) != 0) {
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
+                    lit = lit && !any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, v * inv_r, r2 * inv_r, lit));
+            }
+            T weight = ndl;
+            if constexpr (decltype(attenuated)::value) weight = weight * (inv_r * inv_r);  // eq. 6: 1/r^2
+            accumulate(e, lit, weight, broadcast3<T>(a.r, a.g, a.b, k));
+        }
+    };
+    if constexpr ((F & kPoint) != 0) point_lights(s.point, s.point_count, std::false_type{});
+    if constexpr ((F & kPointAttenuated) != 0) point_lights(s.point_attenuated, s.point_attenuated_count, std::true_type{});
+
+    // L = ka cd * ls cl  +  kd cd / pi * E   (eq. 8, the diffuse factor taken out of the sum)
+    Vec3<T> c = hadamard(gather3(s.diffuse_r, s.diffuse_g, s.diffuse_b, m), e);
+    if constexpr ((F & kAmbient) != 0) c += gather3(s.ambient_r, s.ambient_g, s.ambient_b, m);
+    store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));
+    store(out.g, lane, lane::select(hit, c.y, T(s.background[1])));
+    store(out.b, lane, lane::select(hit, c.z, T(s.background[2])));
+}
+
+template <class T, Precision P, unsigned F>
+void shade_packet(const PacketScene& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) shade_lanes<T, P, F>(s, rp, hp, out, lane);
+}
+
+// ---- tone mapping (DESIGN.md) ---------------------------------------------
+// NaN radiance becomes 0. Under max_to_one an infinite component becomes 1
+// and the finite ones 0 (the limit of c / max as max -> inf); clamp_to_color
+// treats inf as out of gamut; saturate clamps it to 1.
+template <class T, Precision P, ToneMap M>
+inline void tonemap_lanes(const PacketScene& s, const ColorPacket8& in, ColorPacket8& out, int lane) {
+    // max(x, 0) flushes NaN to 0 (lane::max returns its second operand on NaN).
+    T r = lane::max(load<T>(in.r, lane), T(0));
+    T g = lane::max(load<T>(in.g, lane), T(0));
+    T b = lane::max(load<T>(in.b, lane), T(0));
+    if constexpr (M == ToneMap::max_to_one) {
+        const T mx = lane::max(r, lane::max(g, b));
+        const Mask<T> over = mx > T(1);
+        const Mask<T> infinite = mx == inf<T>();
+        const T scale = lane::rcp<P>(lane::select(over && !infinite, mx, T(1)));
+        auto fix = [&](const T& c) {
+            return lane::select(infinite, lane::select(c == inf<T>(), T(1), T(0)), lane::select(over, lane::min(c * scale, T(1)), c));
+        };
+        r = fix(r), g = fix(g), b = fix(b);
+    } else if constexpr (M == ToneMap::clamp_to_color) {
+        const Mask<T> over = r > T(1) || g > T(1) || b > T(1);
+        r = lane::select(over, T(s.clamp_color[0]), r);
+        g = lane::select(over, T(s.clamp_color[1]), g);
+        b = lane::select(over, T(s.clamp_color[2]), b);
+    } else {
+        r = lane::min(r, T(1)), g = lane::min(g, T(1)), b = lane::min(b, T(1));
+    }
+    if (s.inv_gamma != 1.0f) {
+        const T ig(s.inv_gamma);
+        auto gam = [&](const T& c) { return lane::select(c > T(0), lane::pow(c, ig), T(0)); };
+        r = gam(r), g = gam(g), b = gam(b);
+    }
+    store(out.r, lane, r);
+    store(out.g, lane, g);
+    store(out.b, lane, b);
+}
+
+template <class T, Precision P>
+void tonemap_packet(const PacketScene& s, const ColorPacket8& in, ColorPacket8& out) noexcept {
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) {
+        switch (s.tonemap) {
+        case ToneMap::max_to_one: tonemap_lanes<T, P, ToneMap::max_to_one>(s, in, out, lane); break;
+        case ToneMap::clamp_to_color: tonemap_lanes<T, P, ToneMap::clamp_to_color>(s, in, out, lane); break;
+        case ToneMap::saturate: tonemap_lanes<T, P, ToneMap::saturate>(s, in, out, lane); break;
+        }
+    }
+}
+
+// ---- camera rays (DESIGN.md convention) ------------------------------------
+template <class T, Precision P>
+inline void camera_lanes(const PacketScene& s, int x0, int y, RayPacket8& rp, int lane) {
+    const PacketCamera& c = s.camera;
+    T col;
+    if constexpr (lane::width<T> == 1) {
+        col = T(float(x0 + lane));
+    } else {
+        alignas(64) lane::Scalar<T> idx[lane::width<T>];
+        for (int i = 0; i < lane::width<T>; ++i) idx[i] = lane::Scalar<T>(x0 + lane + i);
+        col = T::load_aligned(idx);
+    }
+    const T sx = (T(2) * (col + T(0.5f)) / T(float(c.width)) - T(1)) * T(c.scale_x);
+    const T sy = T((1.0f - 2.0f * (float(y) + 0.5f) / float(c.height)) * c.scale_y);
+    const Vec3<T> u{T(c.u[0]), T(c.u[1]), T(c.u[2])}, v{T(c.v[0]), T(c.v[1]), T(c.v[2])};
+    const Vec3<T> w{T(c.w[0]), T(c.w[1]), T(c.w[2])}, eye{T(c.eye[0]), T(c.eye[1]), T(c.eye[2])};
+    Vec3<T> o, d;
+    if (c.orthographic) {
+        o = eye + u * sx + v * sy;
+        d = {T(0) - w.x, T(0) - w.y, T(0) - w.z};
+    } else {
+        o = eye;
+        d = u * sx + v * sy - w;
+        d = d * lane::rsqrt<P>(fdot(d, d));
+    }
+    store(rp.ox, lane, o.x), store(rp.oy, lane, o.y), store(rp.oz, lane, o.z);
+    store(rp.dx, lane, d.x), store(rp.dy, lane, d.y), store(rp.dz, lane, d.z);
+    store(rp.tmin, lane, T(0));
+    store(rp.tmax, lane, inf<T>());
+    store_mask<T>(rp.active, lane, col < T(float(c.width)));
+}
+
+template <class T, Precision P>
+void camera_packet(const PacketScene& s, int x0, int y, RayPacket8& rp) noexcept {
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) camera_lanes<T, P>(s, x0, y, rp, lane);
+}
+
+}  // namespace octray::kernels::OCTRAY_ISA

@@ -1,0 +1,183 @@
+// kernels/packet_scene.cpp — Scene (AoS, double) -> PacketScene (SoA, float).
+#include <octray/packet_scene.hpp>
+
+#include <cmath>
+#include <stdexcept>
+#include <type_traits>
+
+namespace octray {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Vec3d normalized(const Vec3d& v) { return v * (1.0 / std::sqrt(dot(v, v))); }
+
+void push(Floats& a, double v) { a.push_back(float(v)); }
+void push3(Floats& x, Floats& y, Floats& z, const Vec3d& v) { push(x, v.x), push(y, v.y), push(z, v.z); }
+
+// Pads every array of `arrays` to a multiple of the packet width with copies
+// of element 0 (or zeros), so whole-width loads past the end stay in bounds.
+template <class... A>
+void pad(A&... arrays) {
+    auto one = [](Floats& a) {
+        const float fill = a.empty() ? 0.0f : a.front();
+        while (a.size() % 8 != 0) a.push_back(fill);
+    };
+    (one(arrays), ...);
+}
+
+}  // namespace
+
+Features features_of(const Scene& scene) {
+    Features f;
+    for (const Object& o : scene.objects) f.bits |= 1u << unsigned(primitive_type(o.shape));
+    if (scene.ambient) f.bits |= kAmbient;
+    for (const DirectionalLight& l : scene.directional_lights) {
+        f.bits |= kDirectional;
+        if (l.shadows) f.bits |= kShadows;
+    }
+    for (const PointLight& l : scene.point_lights) {
+        f.bits |= l.attenuation == Attenuation::inverse_square ? kPointAttenuated : kPoint;
+        if (l.shadows) f.bits |= kShadows;
+    }
+    f.tonemap = scene.render.tonemap;
+    f.gamma = scene.render.gamma != 1.0;
+    return f;
+}
+
+std::string feature_string(unsigned bits) {
+    static constexpr const char* names[] = {"sphere",  "plane",       "disk",  "rectangle",
+                                            "box",     "triangle",    "ambient", "directional",
+                                            "point",   "point_attenuated", "shadows"};
+    std::string prims, lights;
+    for (unsigned i = 0; i < 11; ++i) {
+        if ((bits & (1u << i)) == 0) continue;
+        std::string& s = i < 6 ? prims : lights;
+        if (!s.empty()) s += '+';
+        s += names[i];
+    }
+    return (prims.empty() ? "no primitives" : prims) + " | " + (lights.empty() ? "no lights" : lights);
+}
+
+PacketScene compile(const Scene& scene) {
+    constexpr std::size_t kMaxIndex = std::size_t(1) << 24;  // indices travel as exact floats
+    if (scene.objects.size() >= kMaxIndex || scene.materials.size() >= kMaxIndex)
+        throw std::invalid_argument("octray::compile: more than 2^24 objects or materials");
+
+    PacketScene s;
+    s.features = features_of(scene);
+    for (const Object& o : scene.objects) ++s.count[std::size_t(primitive_type(o.shape))];
+    for (int t = 1; t < kPrimitiveTypeCount; ++t) s.offset[std::size_t(t)] = s.offset[std::size_t(t - 1)] + s.count[std::size_t(t - 1)];
+
+    s.object_of.resize(scene.objects.size());
+    s.material_of.resize(scene.objects.size());
+    std::array<int, kPrimitiveTypeCount> next = s.offset;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const Object& o = scene.objects[i];
+        const int cid = next[std::size_t(primitive_type(o.shape))]++;
+        s.object_of[std::size_t(cid)] = float(i);
+        s.material_of[std::size_t(cid)] = float(o.material);
+        std::visit(
+            [&](const auto& p) {
+                using P = std::decay_t<decltype(p)>;
+                if constexpr (std::is_same_v<P, Sphere>) {
+                    auto& a = s.spheres;
+                    push3(a.cx, a.cy, a.cz, p.center);
+                    push(a.radius2, p.radius * p.radius);
+                    push(a.inv_radius, 1.0 / p.radius);
+                } else if constexpr (std::is_same_v<P, Plane>) {
+                    auto& a = s.planes;
+                    push3(a.px, a.py, a.pz, p.point);
+                    push3(a.nx, a.ny, a.nz, normalized(p.normal));
+                } else if constexpr (std::is_same_v<P, Disk>) {
+                    auto& a = s.disks;
+                    push3(a.cx, a.cy, a.cz, p.center);
+                    push3(a.nx, a.ny, a.nz, normalized(p.normal));
+                    push(a.radius2, p.radius * p.radius);
+                } else if constexpr (std::is_same_v<P, Rectangle>) {
+                    // Dual basis of (a, b) in their plane: dual_a.a = 1, dual_a.b = 0, ...
+                    auto& a = s.rectangles;
+                    const Vec3d n = normalized(cross(p.a, p.b));
+                    const Vec3d bn = cross(p.b, n), na = cross(n, p.a);
+                    push3(a.cx, a.cy, a.cz, p.corner);
+                    push3(a.nx, a.ny, a.nz, n);
+                    push3(a.dual_ax, a.dual_ay, a.dual_az, bn * (1.0 / dot(p.a, bn)));
+                    push3(a.dual_bx, a.dual_by, a.dual_bz, na * (1.0 / dot(p.b, na)));
+                } else if constexpr (std::is_same_v<P, Box>) {
+                    auto& a = s.boxes;
+                    push3(a.minx, a.miny, a.minz, p.min);
+                    push3(a.maxx, a.maxy, a.maxz, p.max);
+                } else {
+                    auto& a = s.triangles;
+                    push3(a.x0, a.y0, a.z0, p.v0);
+                    push3(a.x1, a.y1, a.z1, p.v1);
+                    push3(a.x2, a.y2, a.z2, p.v2);
+                    push3(a.nx, a.ny, a.nz, normalized(cross(p.v1 - p.v0, p.v2 - p.v0)));
+                }
+            },
+            o.shape);
+    }
+    // The per-type arrays were filled in object order; compiled ids are type-major,
+    // which is the same order within each type.
+    pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.radius2, s.spheres.inv_radius);
+    pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
+    pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);
+    auto& r = s.rectangles;
+    pad(r.cx, r.cy, r.cz, r.nx, r.ny, r.nz, r.dual_ax, r.dual_ay, r.dual_az, r.dual_bx, r.dual_by, r.dual_bz);
+    pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
+    auto& t = s.triangles;
+    pad(t.x0, t.y0, t.z0, t.x1, t.y1, t.z1, t.x2, t.y2, t.z2, t.nx, t.ny, t.nz);
+    pad(s.object_of, s.material_of);
+
+    for (const DirectionalLight& l : scene.directional_lights) {
+        auto& a = s.directional;
+        push3(a.lx, a.ly, a.lz, normalized(l.direction));
+        push3(a.r, a.g, a.b, l.color * l.ls);
+        push(a.shadows, l.shadows ? 1.0 : 0.0);
+        ++s.directional_count;
+    }
+    for (const PointLight& l : scene.point_lights) {
+        const bool att = l.attenuation == Attenuation::inverse_square;
+        auto& a = att ? s.point_attenuated : s.point;
+        push3(a.px, a.py, a.pz, l.position);
+        push3(a.r, a.g, a.b, l.color * l.ls);
+        push(a.shadows, l.shadows ? 1.0 : 0.0);
+        ++(att ? s.point_attenuated_count : s.point_count);
+    }
+
+    for (const Material& m : scene.materials) {
+        const Vec3d amb = scene.ambient ? hadamard(m.cd * m.ka, scene.ambient->color * scene.ambient->ls) : Vec3d{};
+        const Vec3d dif = m.cd * (m.kd / kPi);
+        push3(s.ambient_r, s.ambient_g, s.ambient_b, amb);
+        push3(s.diffuse_r, s.diffuse_g, s.diffuse_b, dif);
+    }
+    if (scene.materials.empty()) {  // keep gathers in bounds for an object-free scene
+        push3(s.ambient_r, s.ambient_g, s.ambient_b, Vec3d{});
+        push3(s.diffuse_r, s.diffuse_g, s.diffuse_b, Vec3d{});
+    }
+
+    for (int i = 0; i < 3; ++i) {
+        s.background[i] = float(i == 0 ? scene.background.x : i == 1 ? scene.background.y : scene.background.z);
+        const Vec3d& cc = scene.render.clamp_color;
+        s.clamp_color[i] = float(i == 0 ? cc.x : i == 1 ? cc.y : cc.z);
+    }
+    s.tonemap = scene.render.tonemap;
+    s.inv_gamma = float(1.0 / scene.render.gamma);
+
+    const Camera& c = scene.camera;
+    PacketCamera& pc = s.camera;
+    const Vec3d w = normalized(c.eye - c.look_at);
+    const Vec3d u = normalized(cross(c.up, w));
+    const Vec3d v = cross(w, u);
+    auto put = [](float* dst, const Vec3d& x) { dst[0] = float(x.x), dst[1] = float(x.y), dst[2] = float(x.z); };
+    put(pc.eye, c.eye), put(pc.u, u), put(pc.v, v), put(pc.w, w);
+    pc.orthographic = c.type == CameraType::orthographic;
+    const double half = pc.orthographic ? c.height_world / 2 : std::tan(c.fov_y * kPi / 360.0);
+    pc.scale_y = float(half);
+    pc.scale_x = float(half * c.width / c.height);
+    pc.width = c.width;
+    pc.height = c.height;
+    return s;
+}
+
+}  // namespace octray
