@@ -1,0 +1,39 @@
+// tools/scene_loader.hpp — scene JSON (DESIGN.md "Scene JSON") -> octray::Scene.
+//
+// The loader is the only gate between hand-written files and the kernels, so it
+// checks everything: types, required fields, unknown fields (a typo must not be
+// silently ignored), ranges, finiteness and degenerate geometry. It normalizes
+// every direction (light `direction`, `normal`, camera `up`).
+//
+// Required: camera (type; eye, look_at, up, width, height; fov_y for pinhole,
+// height_world for orthographic), materials (object: name -> {type "matte",
+// ka, kd, cd}), objects (array; every object's geometry, type and material).
+// Optional, with the defaults of DESIGN.md / scene.hpp: background, ambient
+// (absent = no ambient light; color, ls), lights (a light needs type and
+// direction or position; color, ls, shadows, attenuation are optional),
+// render (tonemap, clamp_color, gamma).
+#pragma once
+
+#include <octray/scene.hpp>
+
+#include <stdexcept>
+#include <string>
+
+namespace octray {
+
+// what() is one line: "FILE: JSON_PATH: problem", e.g.
+// "scenes/x.json: objects[3].radius: must be > 0, got -1", or for a syntax
+// error "FILE: line L, column C: syntax error ...".
+class SceneError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Reads and parses `path`. A file that cannot be read gives
+// "FILE: cannot open: <OS reason>".
+Scene load_scene(const std::string& path);
+
+// Parses JSON text; `file_name_for_messages` only prefixes error messages.
+Scene parse_scene(const std::string& json_text, const std::string& file_name_for_messages);
+
+}  // namespace octray
