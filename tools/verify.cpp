@@ -1,0 +1,151 @@
+// tools/verify.cpp — reference vs packet path, as numbers.
+#include "verify.hpp"
+
+#include "progress.hpp"
+
+#include <octray/reference.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace octray {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Radiance of a hit with every light at n.l = 1 and unshadowed: the scale
+// against which float rounding of n.l is an absolute error.
+Vec3d full_light_scale(const Scene& scene, const reference::Hit& hit) {
+    const Material& m = scene.materials[std::size_t(scene.objects[std::size_t(hit.object)].material)];
+    Vec3d s;
+    if (scene.ambient) s = hadamard(m.cd * m.ka, scene.ambient->color * scene.ambient->ls);
+    Vec3d e;
+    for (const DirectionalLight& l : scene.directional_lights) e += l.color * l.ls;
+    for (const PointLight& l : scene.point_lights) {
+        double w = 1;
+        if (l.attenuation == Attenuation::inverse_square) w = 1.0 / length_squared(l.position - hit.point);
+        e += l.color * (l.ls * w);
+    }
+    return s + hadamard(m.cd * (m.kd / kPi), e);
+}
+
+std::int64_t ordered_bits(float f) {
+    std::int32_t i;
+    std::memcpy(&i, &f, sizeof i);
+    return i < 0 ? std::int64_t(std::numeric_limits<std::int32_t>::min()) - i : i;
+}
+
+}  // namespace
+
+std::uint64_t ulp_distance(float a, float b) {
+    if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<std::uint32_t>::max();
+    const std::int64_t d = ordered_bits(a) - ordered_bits(b);
+    return std::uint64_t(d < 0 ? -d : d);
+}
+
+ReferenceRender render_reference(const Scene& scene) {
+    const Camera& c = scene.camera;
+    ReferenceRender r;
+    r.radiance = Image<double>(c.width, c.height);
+    r.scale = Image<double>(c.width, c.height);
+    r.primitive.assign(std::size_t(c.width) * std::size_t(c.height), -1);
+    for (int j = 0; j < c.height; ++j) {
+        for (int i = 0; i < c.width; ++i) {
+            const reference::Ray ray = reference::camera_ray(c, i, j);
+            const reference::Hit hit = reference::trace(scene, ray);
+            const Vec3d l = reference::shade(scene, ray, hit);
+            const Vec3d s = hit.object >= 0 ? full_light_scale(scene, hit) : scene.background;
+            double* px = r.radiance.pixel(i, j);
+            double* sx = r.scale.pixel(i, j);
+            px[0] = l.x, px[1] = l.y, px[2] = l.z;
+            sx[0] = s.x, sx[1] = s.y, sx[2] = s.z;
+            r.primitive[std::size_t(j) * std::size_t(c.width) + std::size_t(i)] = hit.object;
+        }
+    }
+    return r;
+}
+
+PacketRender render_packet(const Kernel& kernel, const PacketScene& scene, int threads, Progress* progress,
+                           Image<float>* display) {
+    const int w = scene.camera.width, h = scene.camera.height;
+    PacketRender out;
+    out.radiance = Image<float>(w, h);
+    out.primitive.assign(std::size_t(w) * std::size_t(h), -1);
+    const auto start = std::chrono::steady_clock::now();
+    std::uint64_t rays = 0, masked = 0;
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) reduction(+ : rays, masked)
+    for (int y = 0; y < h; ++y) {
+        RenderCounters c;
+        render_rows(kernel, scene, y, y + 1, out.radiance, display, &c, out.primitive.data());
+        if (progress) progress->tick();
+        rays += c.rays;
+        masked += c.masked;
+    }
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.counters.rays = rays;
+    out.counters.masked = masked;
+    return out;
+}
+
+Agreement compare(const ReferenceRender& ref, const Image<float>& radiance, const std::vector<std::int32_t>& primitive) {
+    const int w = ref.radiance.width, h = ref.radiance.height;
+    Agreement a;
+    std::vector<double> rels;
+    rels.reserve(std::size_t(w) * std::size_t(h) * 3);
+    auto id = [&](int i, int j) { return ref.primitive[std::size_t(j) * std::size_t(w) + std::size_t(i)]; };
+    for (int j = 0; j < h; ++j) {
+        for (int i = 0; i < w; ++i) {
+            ++a.lanes;
+            const std::int32_t mine = primitive[std::size_t(j) * std::size_t(w) + std::size_t(i)];
+            if (mine != id(i, j)) {
+                ++a.mismatched;
+                bool edge = false;
+                for (int dj = -1; dj <= 1; ++dj)
+                    for (int di = -1; di <= 1; ++di) {
+                        const int x = i + di, y = j + dj;
+                        if (x >= 0 && y >= 0 && x < w && y < h && id(x, y) != id(i, j)) edge = true;
+                    }
+                if (edge) ++a.mismatched_silhouette;
+                continue;
+            }
+            ++a.compared;
+            const double* r = ref.radiance.pixel(i, j);
+            const double* s = ref.scale.pixel(i, j);
+            const float* p = radiance.pixel(i, j);
+            for (int k = 0; k < 3; ++k) {
+                if (!std::isfinite(p[k])) {
+                    if (std::isfinite(float(r[k]))) ++a.nonfinite;
+                    continue;
+                }
+                const double err = std::fabs(double(p[k]) - r[k]);
+                if (r[k] != 0) {
+                    const double rel = err / std::fabs(r[k]);
+                    a.max_rel = std::max(a.max_rel, rel);
+                    rels.push_back(rel);
+                }
+                if (s[k] > 0) a.max_scaled = std::max(a.max_scaled, err / s[k]);
+                else if (err > 0) a.max_scaled = std::numeric_limits<double>::infinity();
+                a.max_ulp = std::max(a.max_ulp, ulp_distance(p[k], float(r[k])));
+            }
+        }
+    }
+    if (!rels.empty()) {
+        double sum = 0;
+        for (double r : rels) sum += r;
+        a.mean_rel = sum / double(rels.size());
+        const std::size_t k = std::min(rels.size() - 1, std::size_t(0.99 * double(rels.size())));
+        std::nth_element(rels.begin(), rels.begin() + std::ptrdiff_t(k), rels.end());
+        a.p99_rel = rels[k];
+    }
+    return a;
+}
+
+bool Agreement::within(const Tolerance& tol) const {
+    return nonfinite == 0 && max_scaled <= tol.scaled_error && mismatched == mismatched_silhouette &&
+           double(mismatched) <= tol.silhouette_fraction * double(lanes);
+}
+
+}  // namespace octray

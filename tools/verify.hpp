@@ -1,0 +1,61 @@
+// tools/verify.hpp — agreement of a packet-path image with the reference, in numbers.
+#pragma once
+
+#include <octray/kernels.hpp>
+#include <octray/scene.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace octray {
+
+// Reference image and per-pixel data the comparisons need, computed once.
+struct ReferenceRender {
+    Image<double> radiance;
+    std::vector<std::int32_t> primitive;  // Scene::objects index per pixel, -1 = miss
+    Image<double> scale;  // per channel: the pixel's radiance with every light at n.l = 1
+};
+ReferenceRender render_reference(const Scene& scene);
+
+// A packet-path render with per-pixel primitive ids.
+struct PacketRender {
+    Image<float> radiance;
+    std::vector<std::int32_t> primitive;
+    RenderCounters counters;
+    double seconds = 0;  // wall time of the render itself
+};
+// Rows are spread over `threads` OpenMP threads; `progress` (optional) is ticked per row.
+class Progress;
+PacketRender render_packet(const Kernel& kernel, const PacketScene& scene, int threads = 1, Progress* progress = nullptr,
+                           Image<float>* display = nullptr);
+
+// Tolerances of `octray verify` for exact precision. Radiance error is
+// measured relative to the pixel's full-light radiance S (see DESIGN of
+// verify in README): float rounding of n.l is absolute, ~1e-7 |n||l|, so
+// |L - L_ref| <= tol * S is the bound that holds at the terminator too.
+struct Tolerance {
+    double scaled_error = 1e-4;          // max |L - L_ref| / S
+    double silhouette_fraction = 0.005;  // mismatched hits allowed, as a fraction of lanes, all on silhouettes
+};
+
+struct Agreement {
+    std::uint64_t lanes = 0;             // pixels
+    std::uint64_t compared = 0;          // pixels where both hit the same primitive (or both missed)
+    double max_rel = 0, mean_rel = 0;    // |L - L_ref| / |L_ref| per channel, over channels with L_ref != 0
+    double p99_rel = 0;
+    double max_scaled = 0;               // |L - L_ref| / S per channel
+    std::uint64_t max_ulp = 0;           // float ULPs between L and float(L_ref)
+    std::uint64_t mismatched = 0;        // hit/miss or different primitive
+    std::uint64_t mismatched_silhouette = 0;  // of those, on an id edge of the reference image
+    std::uint64_t nonfinite = 0;         // NaN/inf radiance where the reference is finite
+
+    bool within(const Tolerance& tol) const;
+};
+
+Agreement compare(const ReferenceRender& ref, const Image<float>& radiance, const std::vector<std::int32_t>& primitive);
+
+// ULP distance between two floats (0 when equal, huge across NaN).
+std::uint64_t ulp_distance(float a, float b);
+
+}  // namespace octray
