@@ -63,6 +63,7 @@ PacketScene compile(const Scene& scene) {
     constexpr std::size_t kMaxIndex = std::size_t(1) << 24;  // indices travel as exact floats
     if (scene.objects.size() >= kMaxIndex || scene.materials.size() >= kMaxIndex)
         throw std::invalid_argument("octray::compile: more than 2^24 objects or materials");
+    validate(scene);
 
     PacketScene s;
     s.features = features_of(scene);

@@ -90,8 +90,8 @@ struct PacketScene {
     int primitive_count() const { return count[0] + count[1] + count[2] + count[3] + count[4] + count[5]; }
 };
 
-// Compiles a validated scene. Throws std::invalid_argument when the scene has
-// more than 2^24 primitives or materials (indices travel as exact floats).
+// Compiles a scene. Throws std::invalid_argument when validate() rejects it or
+// it has 2^24 or more primitives or materials (indices travel as exact floats).
 PacketScene compile(const Scene& scene);
 
 }  // namespace octray

@@ -3,7 +3,7 @@
 // This is what the JSON loader produces and what an engine may build by hand.
 // Invariants (the loader checks them; `validate` re-checks a hand-built scene):
 // directions are unit length, radii and extents are positive, material indices
-// are in range, every number is finite. Field meanings follow DESIGN.md and
+// are in range, every number is finite (see validate()). Field meanings follow DESIGN.md and
 // the seed (../shared/seed/lights-and-materials.md, eq. 1, 3, 6, 7, 8).
 #pragma once
 
@@ -103,5 +103,11 @@ struct Scene {
     std::vector<Object> objects;  // primitive index = position here
     RenderSettings render;
 };
+
+// Checks the invariants above on a scene built in code (the JSON loader checks
+// them with file positions). Throws std::invalid_argument naming the first
+// offending field, e.g. "objects[3].material: index 7, but there are 2 materials".
+// compile() calls it, so the kernels only ever see valid scenes.
+void validate(const Scene& scene);
 
 }  // namespace octray
