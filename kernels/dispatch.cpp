@@ -14,12 +14,43 @@ bool simd_supported() {
     return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 }
 
+bool avx512_supported() {
+    return simd_supported() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+}
+
+bool precision_supported(Precision precision) { return !needs_avx512(precision) || avx512_supported(); }
+
+namespace kernels {
+namespace {
+bool always() { return true; }
+}  // namespace
+
+const Unit kUnits[] = {
+    {Path::simd, "avx512", &avx512_supported, &simd_avx512_kernel, &simd_avx512_blocks,
+     kAvx512Modes | mode_bit(Precision::f64)},
+    {Path::simd, "avx2", &simd_supported, &simd_avx2_kernel, &simd_avx2_blocks, kBaseModes},
+    {Path::scalar, "avx512", &avx512_supported, &scalar_avx512_kernel, &scalar_avx512_blocks, kAvx512Modes},
+    {Path::scalar, "avx2", &simd_supported, &scalar_avx2_kernel, &scalar_avx2_blocks, kBaseModes},
+    {Path::scalar, "generic", &always, &scalar_generic_kernel, &scalar_generic_blocks, kBaseModes},
+};
+const int kUnitCount = int(sizeof kUnits / sizeof kUnits[0]);
+
+}  // namespace kernels
+
 namespace {
 
 Kernel make(Path path, Precision precision, unsigned primitive_bits, unsigned light_bits) {
-    if (!simd_supported()) return kernels::scalar_generic_kernel(precision, primitive_bits, light_bits);
-    return path == Path::simd ? kernels::simd_avx2_kernel(precision, primitive_bits, light_bits)
-                              : kernels::scalar_avx2_kernel(precision, primitive_bits, light_bits);
+    // Without AVX-512 the 14-bit-estimate modes become `fast` (Kernel::precision
+    // says so): within approx14's stated bounds, and fast14's to a factor 2.
+    if (!precision_supported(precision)) precision = Precision::fast;
+    // Without AVX2 the SIMD path becomes the baseline scalar one (Kernel::isa "generic").
+    if (!simd_supported()) path = Path::scalar;
+    for (int i = 0; i < kernels::kUnitCount; ++i) {
+        const kernels::Unit& u = kernels::kUnits[i];
+        if (u.path == path && (u.modes & kernels::mode_bit(precision)) != 0 && u.supported())
+            return u.kernel(precision, primitive_bits, light_bits);
+    }
+    return kernels::scalar_generic_kernel(Precision::exact, kAllFeatures, kAllFeatures);  // not reached
 }
 
 }  // namespace

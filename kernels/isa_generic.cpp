@@ -7,7 +7,9 @@
 namespace octray::kernels {
 
 Kernel scalar_generic_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits) {
-    return generic::make_kernel<float, false>(Path::scalar, "generic", precision, primitive_bits, light_bits);
+    return generic::make_kernel<float, double, kBaseModes, false>(Path::scalar, "generic", precision, primitive_bits,
+                                                                  light_bits);
 }
+Blocks scalar_generic_blocks(Precision precision) { return generic::make_blocks<float, double, kBaseModes>(precision); }
 
 }  // namespace octray::kernels

@@ -1,6 +1,6 @@
 // kernels/isa_instantiate.hpp — instantiates the kernels of packet_kernels.hpp
-// for one lane type and fills a Kernel table. Included by the per-ISA units
-// after packet_kernels.hpp, inside the same OCTRAY_ISA namespace scheme.
+// for one unit's lane types and fills a Kernel table. Included by the per-ISA
+// units after packet_kernels.hpp, inside the same OCTRAY_ISA namespace scheme.
 #pragma once
 
 #include "isa_kernels.hpp"
@@ -8,6 +8,21 @@
 #include <utility>
 
 namespace octray::kernels::OCTRAY_ISA {
+
+// Calls fn(std::integral_constant<Precision, p>{}): a run-time mode to a compile-time one.
+template <class Fn>
+auto with_precision(Precision p, Fn&& fn) {
+    using E = Precision;
+    switch (p) {
+    case E::fast: return fn(std::integral_constant<E, E::fast>{});
+    case E::approx: return fn(std::integral_constant<E, E::approx>{});
+    case E::fast14: return fn(std::integral_constant<E, E::fast14>{});
+    case E::approx14: return fn(std::integral_constant<E, E::approx14>{});
+    case E::f64: return fn(std::integral_constant<E, E::f64>{});
+    case E::exact: break;
+    }
+    return fn(std::integral_constant<E, E::exact>{});
+}
 
 template <class T, Precision P, std::size_t... I>
 const IntersectFn* intersect_variants(std::index_sequence<I...>) {
@@ -45,19 +60,86 @@ Kernel make_kernel_at(Path path, const char* isa, unsigned primitive_bits, unsig
     return k;
 }
 
-// Exact precision: the variant for exactly (primitive_bits, light_bits) when
-// `Specialize` and the bits are not kAllFeatures; otherwise the general kernel.
-template <class T, bool Specialize>
+// What one unit compiles: float lanes F for the float modes in `Modes` (a
+// mode_bit set), double lanes D for Precision::f64 (D unused without it).
+// Exact precision is specialized on the scene's features when `Specialize`;
+// every other mode is compiled once, general (all features), to keep the
+// number of instantiations in check. A mode outside `Modes` gives an empty
+// Kernel (intersect == nullptr): dispatch never asks for one.
+template <class F, class D, unsigned Modes, bool Specialize>
 Kernel make_kernel(Path path, const char* isa, Precision precision, unsigned primitive_bits, unsigned light_bits) {
-    switch (precision) {
-    case Precision::exact:
-        if (Specialize && primitive_bits != kAllFeatures)
-            return make_kernel_at<T, Precision::exact, Specialize>(path, isa, primitive_bits, light_bits);
-        return make_kernel_at<T, Precision::exact, false>(path, isa, 0, 0);
-    case Precision::fast: return make_kernel_at<T, Precision::fast, false>(path, isa, 0, 0);
-    case Precision::approx: return make_kernel_at<T, Precision::approx, false>(path, isa, 0, 0);
+    return with_precision(precision, [&](auto mode) -> Kernel {
+        constexpr Precision P = decltype(mode)::value;
+        if constexpr ((Modes & mode_bit(P)) == 0) {
+            return {};
+        } else if constexpr (P == Precision::f64) {
+            return make_kernel_at<D, P, false>(path, isa, 0, 0);
+        } else {
+            if constexpr (Specialize && P == Precision::exact)
+                if (primitive_bits != kAllFeatures) return make_kernel_at<F, P, true>(path, isa, primitive_bits, light_bits);
+            return make_kernel_at<F, P, false>(path, isa, 0, 0);
+        }
+    });
+}
+
+// ---- building blocks, for tests/test_precision.cpp ---------------------------
+// The same lane functions and dot product the kernels use, over arrays whose
+// length is a multiple of the packet width, one lane group at a time.
+template <class T>
+inline T load_lanes(const float* p) {
+    if constexpr (lane::width<T> == 1) return T(*p);
+    else return T::load_unaligned(p);
+}
+template <class T>
+inline void store_lanes(float* p, const T& v) {
+    if constexpr (lane::width<T> == 1) *p = float(v);
+    else v.store_unaligned(p);
+}
+
+template <class T, Precision P>
+struct BlockImpl {
+    static constexpr int W = lane::width<T>;
+    static void rcp(const float* x, float* out, int n) noexcept {
+        for (int i = 0; i < n; i += W) store_lanes(out + i, lane::rcp<P>(load_lanes<T>(x + i)));
     }
-    return {};
+    static void rsqrt(const float* x, float* out, int n) noexcept {
+        for (int i = 0; i < n; i += W) store_lanes(out + i, lane::rsqrt<P>(load_lanes<T>(x + i)));
+    }
+    static void div(const float* a, const float* b, float* out, int n) noexcept {
+        for (int i = 0; i < n; i += W) store_lanes(out + i, lane::div<P>(load_lanes<T>(a + i), load_lanes<T>(b + i)));
+    }
+    // As the pinhole camera normalizes its ray directions.
+    static void normalize(const float* const v[3], float* const out[3], int n) noexcept {
+        for (int i = 0; i < n; i += W) {
+            const Vec3<T> d{load_lanes<T>(v[0] + i), load_lanes<T>(v[1] + i), load_lanes<T>(v[2] + i)};
+            const Vec3<T> u = d * lane::rsqrt<P>(fdot(d, d));
+            store_lanes(out[0] + i, u.x), store_lanes(out[1] + i, u.y), store_lanes(out[2] + i, u.z);
+        }
+    }
+    // As point-light shading computes n.l: (n.v) / |v| for v = light - p.
+    static void ndotl(const float* const nv[3], const float* const v[3], float* out, int n) noexcept {
+        for (int i = 0; i < n; i += W) {
+            const Vec3<T> nn{load_lanes<T>(nv[0] + i), load_lanes<T>(nv[1] + i), load_lanes<T>(nv[2] + i)};
+            const Vec3<T> vv{load_lanes<T>(v[0] + i), load_lanes<T>(v[1] + i), load_lanes<T>(v[2] + i)};
+            store_lanes(out + i, fdot(nn, vv) * lane::rsqrt<P>(fdot(vv, vv)));
+        }
+    }
+};
+
+template <class T, Precision P>
+Blocks make_blocks_at() {
+    using B = BlockImpl<T, P>;
+    return {&B::rcp, &B::rsqrt, &B::div, &B::normalize, &B::ndotl};
+}
+
+template <class F, class D, unsigned Modes>
+Blocks make_blocks(Precision precision) {
+    return with_precision(precision, [](auto mode) -> Blocks {
+        constexpr Precision P = decltype(mode)::value;
+        if constexpr ((Modes & mode_bit(P)) == 0) return {};
+        else if constexpr (P == Precision::f64) return make_blocks_at<D, P>();
+        else return make_blocks_at<F, P>();
+    });
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA

@@ -12,10 +12,53 @@ inline constexpr int kPrimitiveVariants = 64;
 inline constexpr int kLightVariants = 32;
 inline constexpr unsigned kLightShift = 6;
 
-// `primitive_bits` / `light_bits` are FeatureBit sets; pass kAllFeatures for the general kernel.
+// A set of precision modes, one bit each.
+inline constexpr unsigned mode_bit(Precision p) { return 1u << unsigned(p); }
+// What the AVX2 and baseline units compile; the AVX-512 unit compiles the 14-bit-estimate modes.
+inline constexpr unsigned kBaseModes =
+    mode_bit(Precision::exact) | mode_bit(Precision::fast) | mode_bit(Precision::approx) | mode_bit(Precision::f64);
+inline constexpr unsigned kAvx512Modes = mode_bit(Precision::fast14) | mode_bit(Precision::approx14);
+
+// `primitive_bits` / `light_bits` are FeatureBit sets; pass kAllFeatures for
+// the general kernel. A mode the unit does not compile gives an empty Kernel.
 Kernel simd_avx2_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
 Kernel scalar_avx2_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
+// AVX-512 F+VL: the fast14/approx14 modes, general variant only.
+Kernel simd_avx512_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
+Kernel scalar_avx512_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
 // Baseline x86-64 (no AVX2): the scalar path, general variant only.
 Kernel scalar_generic_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
+
+// The precision building blocks as the kernels compute them (same lane type,
+// same lane functions, same ISA flags), over float arrays whose length is a
+// multiple of kPacketWidth. For tests; nullptr members where a unit does not
+// compile the mode.
+struct Blocks {
+    void (*rcp)(const float* x, float* out, int n) noexcept = nullptr;
+    void (*rsqrt)(const float* x, float* out, int n) noexcept = nullptr;
+    void (*div)(const float* a, const float* b, float* out, int n) noexcept = nullptr;
+    void (*normalize)(const float* const v[3], float* const out[3], int n) noexcept = nullptr;  // v * rsqrt(v.v)
+    void (*ndotl)(const float* const n[3], const float* const v[3], float* out, int count) noexcept = nullptr;  // (n.v) * rsqrt(v.v)
+};
+Blocks simd_avx2_blocks(Precision precision);
+Blocks scalar_avx2_blocks(Precision precision);
+Blocks simd_avx512_blocks(Precision precision);
+Blocks scalar_avx512_blocks(Precision precision);
+Blocks scalar_generic_blocks(Precision precision);
+
+
+// One translation unit's kernels: what it runs, where, and how to get them.
+struct Unit {
+    Path path;
+    const char* isa;
+    bool (*supported)();  // this CPU runs the unit's code
+    Kernel (*kernel)(Precision precision, unsigned primitive_bits, unsigned light_bits);
+    Blocks (*blocks)(Precision precision);
+    unsigned modes;  // mode_bit set the unit compiles
+};
+// Every unit built into the library; within a path the preferred one first.
+// Dispatch takes the first supported unit that compiles the asked mode.
+extern const Unit kUnits[];
+extern const int kUnitCount;
 
 }  // namespace octray::kernels

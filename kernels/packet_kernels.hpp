@@ -43,17 +43,17 @@ using lane::Mask;
 template <class T>
 inline T load(const float* p, int lane) {
     if constexpr (lane::width<T> == 1) return T(p[lane]);
-    else return T::load_unaligned(p + lane);
+    else return lane::load_floats<T>(p + lane);
 }
 template <class T>
 inline T load_index(const std::int32_t* p, int lane) {
     if constexpr (lane::width<T> == 1) return T(p[lane]);
-    else return T::load_unaligned(p + lane);  // converts int32 -> float lanes
+    else return lane::load_ints<T>(p + lane);  // converts int32 -> float (or double) lanes
 }
 template <class T>
 inline void store(float* p, int lane, const T& v) {
     if constexpr (lane::width<T> == 1) p[lane] = float(v);
-    else v.store_unaligned(p + lane);
+    else lane::store_floats(p + lane, v);
 }
 // Stores a small integer carried as an exact float.
 template <class T>
@@ -397,12 +397,15 @@ void occluded_packet(const PacketScene& s, const RayPacket8& rp, std::int32_t* o
 
 // ---- shading (seed eq. 7-8) ------------------------------------------------
 // Shadow ray from p toward a light at distance `dist` along unit `l`. The
-// origin moves off the surface by a few ulps of |p| along the facing normal so
-// the surface does not shadow itself.
+// origin moves off the surface along the facing normal so the surface does not
+// shadow itself: by 1e-4 |p|, or by more than the hit point's error where the
+// precision mode's error over the camera ray's length `reach` (|p - o|, max
+// norm) is larger (precision.hpp, shadow_offset).
 template <class T, Precision P>
-inline Ray<T, P> shadow_ray(const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist, const Mask<T>& valid) {
+inline Ray<T, P> shadow_ray(const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist, const Mask<T>& valid,
+                            const T& reach) {
     const T scale = lane::max(lane::max(lane::abs(p.x), lane::abs(p.y)), lane::max(lane::abs(p.z), T(1)));
-    const T eps = scale * T(1e-4f);
+    const T eps = lane::max(scale * T(1e-4f), (scale + reach) * T(float(shadow_offset(P))));
     Ray<T, P> r;
     r.o = p + n * eps;
     r.d = l;
@@ -432,6 +435,7 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
                     lane::select(hit, lane::fma(d.z, t, o.z), T(0))};
     const Vec3<T> n{load<T>(hp.nx, lane), load<T>(hp.ny, lane), load<T>(hp.nz, lane)};
     const T m = lane::select(hit, load_index<T>(hp.material, lane), T(0));
+    [[maybe_unused]] const T reach = t * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
 
     Vec3<T> e{T(0), T(0), T(0)};  // sum over lights of ls*cl * n.l [/ r^2]
     if constexpr ((F & kDirectional) != 0) {
@@ -442,7 +446,7 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
             Mask<T> lit = hit && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
                 if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && !any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, l, inf<T>(), lit));
+                    lit = lit && !any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, l, inf<T>(), lit, reach));
             }
             accumulate(e, lit, ndl, broadcast3<T>(a.r, a.g, a.b, k));
         }
@@ -457,7 +461,7 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
             Mask<T> lit = hit && apart && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
                 if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && !any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, v * inv_r, r2 * inv_r, lit));
+                    lit = lit && !any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, v * inv_r, r2 * inv_r, lit, reach));
             }
             T weight = ndl;
             if constexpr (decltype(attenuated)::value) weight = weight * (inv_r * inv_r);  // eq. 6: 1/r^2

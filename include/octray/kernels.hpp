@@ -27,7 +27,7 @@ namespace octray {
 
 enum class Path {
     scalar,  // the kernel at one float lane, run lane by lane: the speed baseline
-    simd,    // the same kernel at 8 float lanes (AVX2 + FMA)
+    simd,    // the same kernel at 8 float lanes (AVX2 + FMA); Precision::f64: 8 double lanes
 };
 inline constexpr const char* path_name(Path p) { return p == Path::scalar ? "scalar" : "simd"; }
 
@@ -52,14 +52,22 @@ struct Kernel {
     std::string name() const;         // e.g. "simd/avx2/exact [sphere+plane | directional]"
 };
 
-// Kernel specialized to exactly the scene's features (see features.hpp).
-// Path::simd needs AVX2+FMA at run time; without them it returns the scalar
-// path's kernel and says so in Kernel::isa ("generic"), never silently.
+// Kernel specialized to exactly the scene's features (see features.hpp);
+// exact precision only: the other modes (precision.hpp) always run the
+// general kernel. Path::simd needs AVX2+FMA at run time; without them it
+// returns the scalar path's kernel and says so in Kernel::isa ("generic"),
+// never silently. fast14/approx14 need AVX-512 F+VL; without it the kernel
+// is the `fast` one and Kernel::precision says so (`fast` meets approx14's
+// bounds, and fast14's within a factor 2: precision.hpp).
 Kernel select_kernel(const PacketScene& scene, Path path, Precision precision = Precision::exact);
 // The kernel compiled with every feature, whatever the scene uses.
 Kernel general_kernel(Path path, Precision precision = Precision::exact);
 // True when this CPU runs the AVX2+FMA code.
 bool simd_supported();
+// True when this CPU runs the AVX-512 F+VL code (fast14, approx14).
+bool avx512_supported();
+// True when this CPU runs `precision` as asked (no fallback).
+bool precision_supported(Precision precision);
 
 struct RenderCounters {
     std::uint64_t rays = 0;    // camera rays traced

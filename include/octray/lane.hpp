@@ -16,7 +16,9 @@
 #include <xsimd/xsimd.hpp>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #if defined(__SSE__) || defined(__x86_64__)
 #include <immintrin.h>
 #endif
@@ -72,9 +74,16 @@ inline float rsqrt_estimate(float x) { return _mm_cvtss_f32(_mm_rsqrt_ss(_mm_set
 // double has no estimate instruction below AVX-512: estimates go through float.
 inline double rcp_estimate(double x) { return double(rcp_estimate(float(x))); }
 inline double rsqrt_estimate(double x) { return double(rsqrt_estimate(float(x))); }
-// Indexed load; `index` holds a small non-negative integer as a float.
+// AVX-512 14-bit estimates (rel. error < 2^-14); only in units built with -mavx512f -mavx512vl.
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+inline float rcp14_estimate(float x) { return _mm_cvtss_f32(_mm_rcp14_ss(_mm_setzero_ps(), _mm_set_ss(x))); }
+inline float rsqrt14_estimate(float x) { return _mm_cvtss_f32(_mm_rsqrt14_ss(_mm_setzero_ps(), _mm_set_ss(x))); }
+#endif
+// Indexed load; `index` holds a small non-negative integer as a float (or
+// double, for double lanes reading the float scene arrays).
 inline float gather(const float* base, float index) { return base[int(index)]; }
 inline double gather(const double* base, double index) { return base[long(index)]; }
+inline double gather(const float* base, double index) { return double(base[long(index)]); }
 
 // ---- SIMD lanes ------------------------------------------------------------
 template <class S, class A>
@@ -117,46 +126,141 @@ template <class A>
 inline xsimd::batch<float, A> rcp_estimate(const xsimd::batch<float, A>& x) { return xsimd::reciprocal(x); }
 template <class A>
 inline xsimd::batch<float, A> rsqrt_estimate(const xsimd::batch<float, A>& x) { return xsimd::rsqrt(x); }
-template <class A>
-inline xsimd::batch<double, A> rcp_estimate(const xsimd::batch<double, A>& x) {
-    return xsimd::batch_cast<double>(xsimd::reciprocal(xsimd::batch_cast<float>(x)));
+// (Double batches have no rcpps/rsqrtps estimate: double lanes run the f64
+// mode, IEEE only; AVX-512 units have rcp14/rsqrt14 for them below.)
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+// rcp14/rsqrt14 on whatever register the batch lives in (xmm, ymm or zmm).
+template <class S, class A>
+inline xsimd::batch<S, A> rcp14_estimate(const xsimd::batch<S, A>& x) {
+    using B = xsimd::batch<S, A>;
+    if constexpr (std::is_same_v<S, float> && sizeof(B) == 16) return B(_mm_rcp14_ps(x));
+    else if constexpr (std::is_same_v<S, float> && sizeof(B) == 32) return B(_mm256_rcp14_ps(x));
+    else if constexpr (std::is_same_v<S, float> && sizeof(B) == 64) return B(_mm512_rcp14_ps(x));
+    else if constexpr (sizeof(B) == 16) return B(_mm_rcp14_pd(x));
+    else if constexpr (sizeof(B) == 32) return B(_mm256_rcp14_pd(x));
+    else return B(_mm512_rcp14_pd(x));
 }
-template <class A>
-inline xsimd::batch<double, A> rsqrt_estimate(const xsimd::batch<double, A>& x) {
-    return xsimd::batch_cast<double>(xsimd::rsqrt(xsimd::batch_cast<float>(x)));
+template <class S, class A>
+inline xsimd::batch<S, A> rsqrt14_estimate(const xsimd::batch<S, A>& x) {
+    using B = xsimd::batch<S, A>;
+    if constexpr (std::is_same_v<S, float> && sizeof(B) == 16) return B(_mm_rsqrt14_ps(x));
+    else if constexpr (std::is_same_v<S, float> && sizeof(B) == 32) return B(_mm256_rsqrt14_ps(x));
+    else if constexpr (std::is_same_v<S, float> && sizeof(B) == 64) return B(_mm512_rsqrt14_ps(x));
+    else if constexpr (sizeof(B) == 16) return B(_mm_rsqrt14_pd(x));
+    else if constexpr (sizeof(B) == 32) return B(_mm256_rsqrt14_pd(x));
+    else return B(_mm512_rsqrt14_pd(x));
 }
+#else
+template <class T>
+inline T rcp14_estimate(const T&) { static_assert(sizeof(T) == 0, "fast14/approx14 need -mavx512f -mavx512vl"); return {}; }
+template <class T>
+inline T rsqrt14_estimate(const T&) { static_assert(sizeof(T) == 0, "fast14/approx14 need -mavx512f -mavx512vl"); return {}; }
+#endif
+// Packet I/O for batches: float (or int32) arrays in, float arrays out.
+// Double batches convert with one instruction where the unit's ISA has it
+// (xsimd 8.1 converts element by element).
+template <class B>
+inline B load_floats(const float* p) {
+    constexpr std::size_t n = B::size;
+    if constexpr (std::is_same_v<typename B::value_type, float>) return B::load_unaligned(p);
+#if defined(__AVX512F__)
+    else if constexpr (n == 8) return B(_mm512_cvtps_pd(_mm256_loadu_ps(p)));
+#endif
+#if defined(__AVX__)
+    else if constexpr (n == 4) return B(_mm256_cvtps_pd(_mm_loadu_ps(p)));
+#endif
+    else return B::load_unaligned(p);
+}
+template <class B>
+inline B load_ints(const std::int32_t* p) {
+    constexpr std::size_t n = B::size;
+    if constexpr (std::is_same_v<typename B::value_type, float>) return B::load_unaligned(p);
+#if defined(__AVX512F__)
+    else if constexpr (n == 8) return B(_mm512_cvtepi32_pd(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p))));
+#endif
+#if defined(__AVX__)
+    else if constexpr (n == 4) return B(_mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))));
+#endif
+    else return B::load_unaligned(p);
+}
+template <class B>
+inline void store_floats(float* p, const B& v) {
+    constexpr std::size_t n = B::size;
+    if constexpr (std::is_same_v<typename B::value_type, float>) v.store_unaligned(p);
+#if defined(__AVX512F__)
+    else if constexpr (n == 8) _mm256_storeu_ps(p, _mm512_cvtpd_ps(v));
+#endif
+#if defined(__AVX__)
+    else if constexpr (n == 4) _mm_storeu_ps(p, _mm256_cvtpd_ps(v));
+#endif
+    else v.store_unaligned(p);
+}
+
 template <class S, class A>
 inline xsimd::batch<S, A> gather(const S* base, const xsimd::batch<S, A>& index) {
     using I = xsimd::as_integer_t<S>;
     return xsimd::batch<S, A>::gather(base, xsimd::batch_cast<I>(index));
 }
+// Double lanes reading a float scene array.
+template <class A>
+inline xsimd::batch<double, A> gather(const float* base, const xsimd::batch<double, A>& index) {
+    using B = xsimd::batch<double, A>;
+    constexpr std::size_t n = B::size;
+#if defined(__AVX512F__)
+    if constexpr (n == 8) return B(_mm512_cvtps_pd(_mm256_i32gather_ps(base, _mm512_cvttpd_epi32(index), 4)));
+#endif
+#if defined(__AVX2__)
+    if constexpr (n == 4) return B(_mm256_cvtps_pd(_mm_i32gather_ps(base, _mm256_cvttpd_epi32(index), 4)));
+#endif
+    alignas(64) double idx[n], out[n];
+    index.store_aligned(idx);
+    for (std::size_t i = 0; i < n; ++i) out[i] = double(base[long(idx[i])]);
+    return B::load_aligned(out);
+}
 
 // ---- precision-mode arithmetic ---------------------------------------------
-// 1/x. fast: one Newton step r' = r (2 - x r), written r + r (1 - x r) with FMAs.
+// The stated error bound of each function and mode is in precision.hpp.
+// exact and f64 use IEEE divide and sqrt (f64 kernels run on double lanes);
+// the others start from a hardware estimate: rcpps/rsqrtps (fast, approx) or
+// AVX-512 rcp14/rsqrt14 (fast14, approx14), refined by one Newton step in
+// the fast modes.
+template <Precision P, class T>
+inline T estimate_rcp(const T& x) {
+    if constexpr (P == Precision::fast14 || P == Precision::approx14) return lane::rcp14_estimate(x);
+    else return lane::rcp_estimate(x);
+}
+template <Precision P, class T>
+inline T estimate_rsqrt(const T& x) {
+    if constexpr (P == Precision::fast14 || P == Precision::approx14) return lane::rsqrt14_estimate(x);
+    else return lane::rsqrt_estimate(x);
+}
+inline constexpr bool newton_step(Precision p) { return p == Precision::fast || p == Precision::fast14; }
+
+// 1/x. Newton step r' = r (2 - x r), written r + r (1 - x r) with FMAs.
 template <Precision P, class T>
 inline T rcp(const T& x) {
-    if constexpr (P == Precision::exact) {
+    if constexpr (is_ieee(P)) {
         return T(1) / x;
     } else {
-        T r = lane::rcp_estimate(x);
-        if constexpr (P == Precision::fast) r = lane::fma(r, lane::fma(-x, r, T(1)), r);
+        T r = estimate_rcp<P>(x);
+        if constexpr (newton_step(P)) r = lane::fma(r, lane::fma(-x, r, T(1)), r);
         return r;
     }
 }
 // a/b.
 template <Precision P, class T>
 inline T div(const T& a, const T& b) {
-    if constexpr (P == Precision::exact) return a / b;
+    if constexpr (is_ieee(P)) return a / b;
     else return a * rcp<P>(b);
 }
-// 1/lane::sqrt(x). fast: one Newton step r' = r (1.5 - 0.5 x r^2).
+// 1/lane::sqrt(x). Newton step r' = r (1.5 - 0.5 x r^2).
 template <Precision P, class T>
 inline T rsqrt(const T& x) {
-    if constexpr (P == Precision::exact) {
+    if constexpr (is_ieee(P)) {
         return T(1) / lane::sqrt(x);
     } else {
-        T r = lane::rsqrt_estimate(x);
-        if constexpr (P == Precision::fast) {
+        T r = estimate_rsqrt<P>(x);
+        if constexpr (newton_step(P)) {
             const T half_x = T(0.5) * x;
             r = r * lane::fma(-half_x, r * r, T(1.5));
         }

@@ -1,0 +1,366 @@
+// Precision modes: every stated bound of precision.hpp, checked on randomized
+// inputs (fixed seeds) for every ISA unit and path built that this CPU runs,
+// per building block (reciprocal, rsqrt, divide, normalize, n.l) and end to
+// end (scene renders against the double reference).
+#include <doctest/doctest.h>
+
+#include "../kernels/isa_kernels.hpp"
+#include "errtime.hpp"
+#include "scene_loader.hpp"
+#include "verify.hpp"
+
+#include <octray/kernels.hpp>
+#include <octray/reference.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <variant>
+#include <vector>
+
+using namespace octray;
+
+namespace {
+
+constexpr int kSamples = 1 << 16;  // per block, mode and unit: a multiple of the packet width
+
+// Every (unit, mode) this CPU runs.
+template <class Fn>
+void for_each_unit_mode(Fn&& fn) {
+    for (int i = 0; i < kernels::kUnitCount; ++i) {
+        const kernels::Unit& u = kernels::kUnits[i];
+        if (!u.supported()) continue;
+        for (Precision p : kPrecisions)
+            if ((u.modes & kernels::mode_bit(p)) != 0) fn(u, p);
+    }
+}
+
+std::string unit_name(const kernels::Unit& u, Precision p) {
+    return std::string(path_name(u.path)) + "/" + u.isa + "/" + precision_name(p);
+}
+
+struct Rng {
+    std::mt19937_64 g;
+    explicit Rng(unsigned seed) : g(seed) {}
+    double uniform(double a, double b) { return std::uniform_real_distribution<double>(a, b)(g); }
+    // |x| log-uniform in [2^lo, 2^hi], random sign when `sign`.
+    float logu(double lo, double hi, bool sign) {
+        const float x = float(std::exp2(uniform(lo, hi)));
+        return sign && uniform(0, 1) < 0.5 ? -x : x;
+    }
+};
+
+// Unit vectors and general vectors of random direction and length.
+void random_vectors(Rng& r, std::vector<float> (&v)[3], double lo, double hi) {
+    for (int i = 0; i < kSamples; ++i) {
+        double x, y, z, l2;
+        do {
+            x = r.uniform(-1, 1), y = r.uniform(-1, 1), z = r.uniform(-1, 1);
+            l2 = x * x + y * y + z * z;
+        } while (l2 > 1 || l2 < 1e-4);
+        const double s = std::exp2(r.uniform(lo, hi)) / std::sqrt(l2);
+        v[0][std::size_t(i)] = float(x * s), v[1][std::size_t(i)] = float(y * s), v[2][std::size_t(i)] = float(z * s);
+    }
+}
+
+// Largest |out[i] - exact(i)| / |exact(i)|.
+template <class Exact>
+double worst_relative(const std::vector<float>& out, Exact&& exact) {
+    double worst = 0;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const double e = exact(i);
+        worst = std::max(worst, std::fabs(double(out[i]) - e) / std::fabs(e));
+    }
+    return worst;
+}
+
+std::vector<std::string> scene_files() {
+    std::vector<std::string> files;
+    const std::string dir = std::string(OCTRAY_SOURCE_DIR) + "/scenes";
+    if (std::filesystem::is_directory(dir))
+        for (const auto& e : std::filesystem::directory_iterator(dir))
+            if (e.path().extension() == ".json") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// The reference's camera rays and hits, and the lanes on an edge of a box
+// face or of a shadow: a 3x3 neighbour on the same object shows another face
+// of the box or another set of visible lights. There a hit point off by the
+// mode's position error may take the other face or visibility, a legal answer
+// like a silhouette lane's; the end-to-end bound leaves them out (precision.hpp).
+struct ReferenceHits {
+    std::vector<reference::Ray> rays;
+    std::vector<reference::Hit> hits;
+    std::vector<char> edge;
+};
+
+ReferenceHits reference_hits(const Scene& scene) {
+    const Camera& c = scene.camera;
+    const std::size_t w = std::size_t(c.width), h = std::size_t(c.height);
+    struct Key {
+        Vec3d face;            // box hits: the face normal
+        unsigned visible = 0;  // bit k: shadowed light k is visible
+        bool operator!=(const Key& o) const {
+            return visible != o.visible || face.x != o.face.x || face.y != o.face.y || face.z != o.face.z;
+        }
+    };
+    ReferenceHits r;
+    std::vector<Key> keys(w * h);
+    auto unblocked = [&](const Vec3d& from, const Vec3d& dir, double dist) {
+        return reference::trace(scene, {from, dir}, 0.0, dist).object < 0;
+    };
+    for (std::size_t j = 0; j < h; ++j)
+        for (std::size_t i = 0; i < w; ++i) {
+            const reference::Ray& ray = r.rays.emplace_back(reference::camera_ray(c, int(i), int(j)));
+            const reference::Hit& hit = r.hits.emplace_back(reference::trace(scene, ray));
+            Key& k = keys[j * w + i];
+            if (hit.object < 0) continue;
+            const Shape& shape = scene.objects[std::size_t(hit.object)].shape;
+            if (std::holds_alternative<Box>(shape)) k.face = reference::geometric_normal(shape, hit.point);
+            // The reference's shadow rays (kernels/reference.cpp).
+            const Vec3d o = hit.point + hit.normal * (1e-9 * (1 + std::sqrt(dot(hit.point, hit.point))));
+            unsigned bit = 1;
+            for (const DirectionalLight& l : scene.directional_lights)
+                if (l.shadows) k.visible |= unblocked(o, l.direction, 1e300) ? bit : 0, bit <<= 1;
+            for (const PointLight& l : scene.point_lights)
+                if (l.shadows) {
+                    const Vec3d v = l.position - o;
+                    const double d = std::sqrt(dot(v, v));
+                    k.visible |= unblocked(o, v * (1 / d), d) ? bit : 0, bit <<= 1;
+                }
+        }
+    r.edge.assign(w * h, 0);
+    for (std::size_t j = 0; j < h; ++j)
+        for (std::size_t i = 0; i < w; ++i)
+            for (std::size_t y = j > 0 ? j - 1 : 0; y <= std::min(j + 1, h - 1); ++y)
+                for (std::size_t x = i > 0 ? i - 1 : 0; x <= std::min(i + 1, w - 1); ++x)
+                    if (r.hits[y * w + x].object == r.hits[j * w + i].object && keys[y * w + x] != keys[j * w + i])
+                        r.edge[j * w + i] = 1;
+    return r;
+}
+
+// Edge lanes for a mode: the above, and box hits whose face changes when the
+// hit point moves by `band` * t along the ray (an edge to a face the camera
+// does not see, such as a box standing on a plane).
+std::vector<char> edge_lanes(const Scene& scene, const ReferenceHits& r, double band) {
+    std::vector<char> edge = r.edge;
+    for (std::size_t k = 0; k < edge.size(); ++k) {
+        const reference::Hit& hit = r.hits[k];
+        if (hit.object < 0) continue;
+        const Shape& shape = scene.objects[std::size_t(hit.object)].shape;
+        if (!std::holds_alternative<Box>(shape)) continue;
+        const Vec3d n = reference::geometric_normal(shape, hit.point);
+        const Vec3d along = r.rays[k].direction * (band * hit.t);
+        for (const Vec3d& q : {hit.point + along, hit.point - along}) {
+            const Vec3d m = reference::geometric_normal(shape, q);
+            if (m.x != n.x || m.y != n.y || m.z != n.z) edge[k] = 1;
+        }
+    }
+    return edge;
+}
+
+}  // namespace
+
+TEST_CASE("the stated bounds are ordered as the modes promise") {
+    for (Precision p : kPrecisions) {
+        CAPTURE(precision_name(p));
+        CHECK(rcp_bound(p) >= kUnitRoundoff);
+        CHECK(rsqrt_bound(p) >= kUnitRoundoff);
+        CHECK(normalize_bound(p) > rsqrt_bound(p));
+        CHECK(end_to_end_bound(p) > 0);
+    }
+    // A mode that falls back to `fast` without AVX-512 keeps (approx14) or
+    // doubles at most (fast14) its stated bounds.
+    CHECK(rcp_bound(Precision::fast) <= rcp_bound(Precision::approx14));
+    CHECK(rsqrt_bound(Precision::fast) <= rsqrt_bound(Precision::approx14));
+    CHECK(rcp_bound(Precision::fast) <= rcp_bound(Precision::fast14));
+    CHECK(rsqrt_bound(Precision::fast) <= 2 * rsqrt_bound(Precision::fast14));
+    CHECK(rcp_bound(Precision::approx) > rcp_bound(Precision::approx14));
+    CHECK(rcp_bound(Precision::exact) <= rcp_bound(Precision::fast));
+}
+
+TEST_CASE("dispatch runs the asked mode, or says which it runs instead") {
+    for (Path path : {Path::scalar, Path::simd})
+        for (Precision p : kPrecisions) {
+            CAPTURE(path_name(path));
+            CAPTURE(precision_name(p));
+            const Kernel k = general_kernel(path, p);
+            REQUIRE(bool(k.intersect));
+            REQUIRE(bool(k.shade));
+            if (precision_supported(p)) CHECK(k.precision == p);
+            else CHECK(k.precision == Precision::fast);
+            if (needs_avx512(p) && precision_supported(p) && simd_supported()) CHECK(std::string(k.isa) == "avx512");
+        }
+}
+
+TEST_CASE("reciprocal and divide stay within their stated bounds") {
+    for_each_unit_mode([](const kernels::Unit& u, Precision p) {
+        CAPTURE(unit_name(u, p));
+        const kernels::Blocks b = u.blocks(p);
+        REQUIRE(bool(b.rcp));
+        Rng r(20240501u);
+        std::vector<float> x(kSamples), y(kSamples), out(kSamples);
+        // Arguments whose reciprocal (and quotient) is a normal float.
+        for (int i = 0; i < kSamples; ++i) x[std::size_t(i)] = r.logu(-100, 100, true), y[std::size_t(i)] = r.logu(-20, 20, true);
+        b.rcp(x.data(), out.data(), kSamples);
+        double worst = worst_relative(out, [&](std::size_t i) { return 1.0 / double(x[i]); });
+        MESSAGE(unit_name(u, p) << " rcp: max rel err " << worst / kUnitRoundoff << " u, bound " << rcp_bound(p) / kUnitRoundoff << " u");
+        CHECK(worst <= rcp_bound(p));
+        CHECK(worst > 0);  // the samples are hard enough to show an error at all
+
+        b.div(y.data(), x.data(), out.data(), kSamples);
+        worst = worst_relative(out, [&](std::size_t i) { return double(y[i]) / double(x[i]); });
+        CHECK(worst <= div_bound(p));
+    });
+}
+
+TEST_CASE("rsqrt stays within its stated bound") {
+    for_each_unit_mode([](const kernels::Unit& u, Precision p) {
+        CAPTURE(unit_name(u, p));
+        const kernels::Blocks b = u.blocks(p);
+        REQUIRE(bool(b.rsqrt));
+        Rng r(20240502u);
+        std::vector<float> x(kSamples), out(kSamples);
+        for (int i = 0; i < kSamples; ++i) x[std::size_t(i)] = r.logu(-120, 120, false);
+        b.rsqrt(x.data(), out.data(), kSamples);
+        const double worst = worst_relative(out, [&](std::size_t i) { return 1.0 / std::sqrt(double(x[i])); });
+        MESSAGE(unit_name(u, p) << " rsqrt: max rel err " << worst / kUnitRoundoff << " u, bound " << rsqrt_bound(p) / kUnitRoundoff << " u");
+        CHECK(worst <= rsqrt_bound(p));
+        CHECK(worst > 0);
+    });
+}
+
+TEST_CASE("normalize and n.l stay within their stated bounds") {
+    for_each_unit_mode([](const kernels::Unit& u, Precision p) {
+        CAPTURE(unit_name(u, p));
+        const kernels::Blocks b = u.blocks(p);
+        REQUIRE(bool(b.normalize));
+        REQUIRE(bool(b.ndotl));
+        Rng r(20240503u);
+        std::vector<float> v[3], n[3], o[3], dots(kSamples);
+        for (int k = 0; k < 3; ++k) v[k].resize(kSamples), n[k].resize(kSamples), o[k].resize(kSamples);
+        random_vectors(r, v, -30, 30);  // light vectors: any length
+        random_vectors(r, n, 0, 0);     // normals: unit (to float rounding)
+        const float* vp[3] = {v[0].data(), v[1].data(), v[2].data()};
+        const float* np[3] = {n[0].data(), n[1].data(), n[2].data()};
+        float* op[3] = {o[0].data(), o[1].data(), o[2].data()};
+
+        b.normalize(vp, op, kSamples);
+        double worst = 0;
+        for (std::size_t i = 0; i < std::size_t(kSamples); ++i) {
+            const Vec3d d{v[0][i], v[1][i], v[2][i]};
+            const Vec3d e = d * (1.0 / std::sqrt(dot(d, d)));
+            for (double err : {o[0][i] - e.x, o[1][i] - e.y, o[2][i] - e.z}) worst = std::max(worst, std::fabs(err));
+        }
+        MESSAGE(unit_name(u, p) << " normalize: max abs err " << worst / kUnitRoundoff << " u, bound " << normalize_bound(p) / kUnitRoundoff << " u");
+        CHECK(worst <= normalize_bound(p));
+
+        b.ndotl(np, vp, dots.data(), kSamples);
+        worst = 0;
+        for (std::size_t i = 0; i < std::size_t(kSamples); ++i) {
+            const Vec3d d{v[0][i], v[1][i], v[2][i]}, nn{n[0][i], n[1][i], n[2][i]};
+            const double e = dot(nn, d) / std::sqrt(dot(d, d));
+            worst = std::max(worst, std::fabs(dots[i] - e));
+        }
+        MESSAGE(unit_name(u, p) << " n.l: max abs err " << worst / kUnitRoundoff << " u, bound " << ndotl_bound(p) / kUnitRoundoff << " u");
+        CHECK(worst <= ndotl_bound(p));
+    });
+}
+
+TEST_CASE("end to end: every scene renders within each mode's stated bound on every unit") {
+    const std::vector<std::string> files = scene_files();
+    REQUIRE(!files.empty());
+    for (const std::string& file : files) {
+        CAPTURE(file);
+        const Scene scene = load_scene(file);
+        const PacketScene packet = compile(scene);
+        const ReferenceRender ref = render_reference(scene);
+        const double kappa = scene_condition(scene);
+        const ReferenceHits hits = reference_hits(scene);
+        for_each_unit_mode([&](const kernels::Unit& u, Precision p) {
+            CAPTURE(unit_name(u, p));
+            const Kernel k = u.kernel(p, kAllFeatures, kAllFeatures);
+            REQUIRE(bool(k.intersect));
+            PacketRender out = render_packet(k, packet);
+            const Agreement all = compare(ref, out.radiance, out.primitive);
+            CHECK(all.nonfinite == 0);
+            CHECK(out.counters.masked == 0);
+            CHECK(all.mismatched == all.mismatched_silhouette);
+            // Face and shadow edge lanes count as right (the reference's value) whatever they hold.
+            const std::vector<char> edge = edge_lanes(scene, hits, end_to_end_bound(p));
+            const long edges = long(std::count(edge.begin(), edge.end(), char(1)));
+            CHECK(edges <= long(edge.size() / 10));
+            for (int j = 0; j < scene.camera.height; ++j)
+                for (int i = 0; i < scene.camera.width; ++i)
+                    if (edge[std::size_t(j) * std::size_t(scene.camera.width) + std::size_t(i)] != 0)
+                        for (int ch = 0; ch < 3; ++ch) out.radiance.pixel(i, j)[ch] = float(ref.radiance.pixel(i, j)[ch]);
+            const Agreement a = compare(ref, out.radiance, out.primitive);
+            MESSAGE(file << " " << unit_name(u, p) << ": max L/S " << a.max_scaled << " (bound "
+                         << end_to_end_bound(p) * kappa << ", kappa " << kappa << "), mismatched " << a.mismatched
+                         << " of " << a.lanes << ", edge lanes " << edges << ", max L/S with them " << all.max_scaled);
+            CHECK(a.max_scaled <= end_to_end_bound(p) * kappa);
+        });
+    }
+}
+
+TEST_CASE("the Pareto front keeps exactly the points no other point beats in both time and error") {
+    auto point = [](double ns, double err) {
+        ErrtimePoint p;
+        p.ns_per_ray = ns;
+        p.agreement.max_rel = err;
+        return p;
+    };
+    std::vector<ErrtimePoint> pts = {point(10, 1e-3), point(20, 1e-6), point(30, 1e-7), point(25, 1e-5),
+                                     point(10, 1e-4), point(40, 1e-7)};
+    mark_pareto(pts);
+    const bool expected[] = {false, true, true, false, true, false};
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        CAPTURE(i);
+        CHECK(pts[i].pareto == expected[i]);
+    }
+}
+
+TEST_CASE("errtime measures every path x mode and writes the table, CSV and SVG") {
+    Scene scene = load_scene(std::string(OCTRAY_SOURCE_DIR) + "/scenes/default.json");
+    scene.camera.width = 40, scene.camera.height = 30;  // small: this is about the report, not the numbers
+    ErrtimeOptions options;
+    options.min_seconds = 0;
+    const ErrtimeReport r = measure_errtime(scene, options);
+    std::size_t expected = 0;
+    for (Path path : {Path::scalar, Path::simd})
+        for (Precision p : kPrecisions) {
+            const Kernel k = general_kernel(path, p);
+            if (k.path == path && k.precision == p) ++expected;
+        }
+    CHECK(r.points.size() == expected);
+    CHECK(r.points.size() + r.skipped.size() == 2 * kPrecisionCount);
+    CHECK(r.kappa >= 1);
+    int front = 0;
+    for (const ErrtimePoint& p : r.points) {
+        CAPTURE(p.kernel);
+        CHECK(p.repetitions >= 5);
+        CHECK(p.ns_per_ray > 0);
+        CHECK(p.ns_min <= p.ns_per_ray);
+        CHECK(p.ns_per_ray <= p.ns_max);
+        CHECK(p.agreement.lanes == 40u * 30u);
+        front += p.pareto ? 1 : 0;
+    }
+    CHECK(front >= 1);
+    const std::string csv = errtime_csv(r);
+    CHECK(std::count(csv.begin(), csv.end(), '\n') == std::ptrdiff_t(r.points.size() + 1));
+    CHECK(csv.rfind("path,isa,mode,", 0) == 0);
+    const std::string svg = errtime_svg(r, "test <plot>");
+    CHECK(svg.rfind("<svg", 0) == 0);
+    CHECK(svg.find("</svg>") != std::string::npos);
+    CHECK(svg.find("test &lt;plot&gt;") != std::string::npos);
+    std::size_t circles = 0;
+    for (std::size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1)) ++circles;
+    CHECK(circles >= r.points.size());
+    std::FILE* devnull = std::fopen("/dev/null", "w");
+    REQUIRE(devnull != nullptr);
+    print_errtime_table(devnull, r);
+    std::fclose(devnull);
+}
