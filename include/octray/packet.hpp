@@ -30,6 +30,7 @@ struct alignas(32) HitPacket {
     alignas(32) std::int32_t material[W];   // Scene::materials index, -1 on a miss
     alignas(32) float nx[W], ny[W], nz[W];  // unit normal facing the ray (n.d <= 0)
     alignas(32) std::int32_t hit[W];        // -1 where the lane hit something, else 0
+    alignas(32) std::int32_t invalid[W];    // -1 where an active lane was masked off for bad input
 };
 
 template <int W = kPacketWidth>

@@ -1,0 +1,46 @@
+// tools/commands.hpp — the `octray` subcommands, one function each.
+// Each returns the process exit status (DESIGN.md: 0 ok, 1 a failed
+// verification, 2 bad input); bad input is thrown as an exception that
+// main() turns into one line on stderr.
+#pragma once
+
+#include <string>
+
+namespace octray::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailed = 1;
+inline constexpr int kExitBadInput = 2;
+
+struct RenderArgs {
+    std::string scene;
+    std::string output;
+    std::string hdr;  // empty: no PFM
+    std::string path = "simd";
+    int threads = 0;  // 0: all cores
+};
+int run_render(const RenderArgs& args);
+
+struct VerifyArgs {
+    std::string scene;
+    int threads = 0;  // 0: all cores
+};
+int run_verify(const VerifyArgs& args);
+
+struct ErrtimeArgs {
+    std::string scene;
+    std::string csv;   // empty: no CSV
+    std::string plot;  // empty: no SVG
+    int threads = 1;   // render threads while timing
+};
+int run_errtime(const ErrtimeArgs& args);
+
+struct StabilityArgs {};
+int run_stability(const StabilityArgs& args);
+
+struct InfoArgs {
+    std::string scene;
+};
+int run_info(const InfoArgs& args);
+
+}  // namespace octray::cli
