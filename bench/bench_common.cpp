@@ -1,0 +1,326 @@
+// bench/bench_common.cpp — scenes, ray sets, FLOP accounting, counters, main.
+#include "bench_common.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <immintrin.h>
+#include <xmmintrin.h>
+#include <pmmintrin.h>
+
+namespace octray::bench {
+
+// =============================================================================
+// FLOPs per ray, counted by hand from kernels/packet_kernels.hpp as committed
+// at f294f2f. A kernel change that adds or removes arithmetic must update the
+// counts below (kTestFlops, kNormalFlops, kIntersectSetup, the shade, tone-map
+// and camera functions), or GFLOP/s and % of peak go wrong.
+//
+// How we count: one FLOP per lane for each add, sub, mul, div and sqrt the
+// kernel source writes; two for each fma() (the peak counts an FMA as two).
+// Compares, selects, min/max, abs, copysign, masks, loads, stores, gathers and
+// conversions count zero (they are not arithmetic; they still take issue slots,
+// which is part of why a kernel falls short of the FMA peak). The library is
+// built with -ffp-contract=off, so `a * b + c` stays a mul and an add, exactly
+// as written. Helpers: fdot(a, b) = fma(ax, bx, fma(ay, by, az * bz)) = 2 fma +
+// 1 mul = 5 FLOPs; dot(a, b) (vec3.hpp) = 3 mul + 2 add = 5; cross = 6 mul +
+// 3 sub = 9; a Vec3 add/sub/scale = 3. Exact precision: rcp = 1 div; rsqrt =
+// 1 sqrt + 1 div. Values uniform over a whole packet (per-row camera terms) are
+// not counted. We count what the source asks for, not what the compiler keeps
+// after hoisting loop invariants: see the disassembly check below the
+// sphere count.
+//
+// ---- intersect (intersect_packet -> intersect_lanes) --------------------------
+// load_ray: dd = fdot(d, d) 5; inv_dd = rcp 1; inv_d = 3 rcp 3          =  9
+// p = o + d * t (3 mul, 3 add)                                           =  6
+// face-forward: fdot(n, d) 5; 0 - n (3 sub, computed then selected)      =  8
+//                                                          per-ray setup  = 23
+// hit_normal, for the lanes of the hit's type (k = cid - base: 1):
+//   sphere (p - c) * inv_radius 6 + 1 = 7; box: (lo+hi)*0.5 6, (hi-lo)*0.5 6,
+//   p - c 3, |q|/h 3 div, + 1 = 19; plane, disk, rectangle, triangle: 1.
+//   We add the dearest normal among the types present (an upper bound).
+// Per primitive tested (closest_hit runs every test on every ray; the
+// selects that keep the nearest hit count zero):
+//   sphere_t:    f = o - c 3; b = fdot(f,d) 5; b*inv_dd 1; d*(..) 3;
+//                perp = f - .. 3; fdot(perp,perp) 5; r2 - .. 1; a = fdot(d,d) 5;
+//                disc*a 1; sqrt 1; c = fdot(f,f) - r2 6; b + copysign 1;
+//                0 - (..) 1; t0 = q*inv_dd 1; t1 = c/q 1                  = 38
+//   plane_t:     den = fdot(d,n) 5; point - o 3; fdot(..,n) 5; div 1     = 14
+//   disk_t:      plane 14; q = o + d*t - c 9; fdot(q,q) 5                 = 28
+//   rectangle_t: plane 14; q 9; two fdot 10                               = 33
+//   box_t:       per slab (a-o)*inv, (b-o)*inv: 4; three slabs             = 12
+//   triangle_t:  v0,v1,v2 9; per edge: sub 3, add 3, cross 9, dot 5 = 20,
+//                three edges 60; ng = cross(v1-v0, v2-v0) 15; den = dot 5;
+//                dot(ng, v0) 5; div 1                                     = 95
+//
+// Disassembly check (objdump -d of intersect_lanes<batch<float, fma3<avx2>>,
+// exact, kSphere>, g++ 12 -O3, -ffp-contract=off): the 8-lane inner loop is 61
+// instructions (callgrind: 62.6 per sphere-packet at 256 spheres). It keeps
+// a = fdot(d, d) out of the loop (loop invariant) and so issues 33 of the 38
+// FLOPs: 6 vfmadd (12 FLOPs) + 9 vsubps + 1 vaddps + 9 vmulps + vsqrtps +
+// vdivps = 33. We report 38, the algorithm's count "from the code"; the 33
+// the machine executes would lower every sphere GFLOP/s figure by 13%.
+// =============================================================================
+
+namespace {
+
+constexpr double kIntersectSetup = 9 + 6 + 8;
+constexpr double kTestFlops[kPrimitiveTypeCount] = {38, 14, 28, 33, 12, 95};
+constexpr double kNormalFlops[kPrimitiveTypeCount] = {7, 1, 1, 1, 19, 1};
+
+double all_tests(const PacketScene& s) {
+    double f = 0;
+    for (int t = 0; t < kPrimitiveTypeCount; ++t) f += double(s.count[std::size_t(t)]) * kTestFlops[t];
+    return f;
+}
+
+}  // namespace
+
+double intersect_flops_per_ray(const PacketScene& s) {
+    double normal = 0;
+    for (int t = 0; t < kPrimitiveTypeCount; ++t)
+        if (s.count[std::size_t(t)] > 0) normal = std::max(normal, kNormalFlops[t]);
+    return kIntersectSetup + normal + all_tests(s);
+}
+
+// ---- shade (shade_lanes) ------------------------------------------------------
+// p = fma(d, t, o) x3                                                   =  6
+// directional light: ndl = fdot(n, l) 5; accumulate 3 fma 6              = 11
+// point light: v = pos - p 3; r2 = fdot 5; rsqrt 2; fdot(n,v) * inv_r 6;
+//              accumulate 6                                              = 22
+// inverse-square point light: as point + inv_r*inv_r 1 + weight*.. 1     = 24
+// final: hadamard(diffuse, E) 3; + ambient 3 (when the scene has ambient)
+// shadows: reach = t * max|d| 1 (once per ray); a light with shadows adds its
+// shadow ray: eps = max(scale*1e-4, (scale + reach)*k) 3, o = p + n*eps 6,
+// fdot(l,l) 5, rcp 1, inv_d 3 = 18 (point: + v*inv_r 3, r2*inv_r 1 = 22),
+// and any_hit's tests of every primitive (counted in full: an upper bound,
+// any_hit stops early once all lanes are blocked).
+double shade_flops_per_ray(const PacketScene& s) {
+    double f = 6 + 3;
+    if (s.features.has(kAmbient)) f += 3;
+    f += 11.0 * s.directional_count + 22.0 * s.point_count + 24.0 * s.point_attenuated_count;
+    if (s.features.has(kShadows)) {
+        f += 1;
+        for (int k = 0; k < s.directional_count; ++k)
+            if (s.directional.shadows[std::size_t(k)] != 0.0f) f += 18 + all_tests(s);
+        for (int k = 0; k < s.point_count; ++k)
+            if (s.point.shadows[std::size_t(k)] != 0.0f) f += 22 + all_tests(s);
+        for (int k = 0; k < s.point_attenuated_count; ++k)
+            if (s.point_attenuated.shadows[std::size_t(k)] != 0.0f) f += 22 + all_tests(s);
+    }
+    return f;
+}
+
+// ---- tone map (tonemap_lanes) ---------------------------------------------------
+// max_to_one: scale = rcp(max) 1 div; c * scale x3 3                      =  4
+// clamp_to_color, saturate: compares, selects and min only                =  0
+// gamma: three pow() calls from xsimd/libm, not in the kernel source: not counted.
+double tonemap_flops_per_ray(ToneMap mode, bool /*gamma*/) { return mode == ToneMap::max_to_one ? 4 : 0; }
+
+// ---- camera (camera_lanes) ------------------------------------------------------
+// sx = (2 * (col + 0.5) / width - 1) * scale_x: add, mul, div, sub, mul   =  5
+// pinhole: d = u*sx + v*sy - w: 3 mul, 3 mul, 3 add, 3 sub 12; fdot(d,d) 5;
+//          rsqrt 2; d * inv 3                                             = 27
+// orthographic: o = eye + u*sx + v*sy 12; d = 0 - w 3                     = 20
+// (sy is one value per packet row: not counted.)
+double camera_flops_per_ray(bool orthographic) { return orthographic ? 20 : 27; }
+
+// =============================================================================
+// Scenes and rays
+// =============================================================================
+
+const char* layout_name(Layout l) {
+    constexpr const char* names[] = {"sphere", "plane", "disk", "rectangle", "box", "triangle", "mixed"};
+    return names[int(l)];
+}
+
+namespace {
+
+Vec3d unit(const Vec3d& v) { return v * (1.0 / std::sqrt(dot(v, v))); }
+
+Shape grid_shape(PrimitiveType type, int i, double x, double z) {
+    switch (type) {
+    case PrimitiveType::sphere: return Sphere{{x, 0, z}, 1.0};
+    case PrimitiveType::plane:
+        // Stacked, slightly tilted planes under the grid.
+        return Plane{{x, -1.1 - 0.001 * i, z}, unit({0.05 * std::sin(i), 1, 0.05 * std::cos(i)})};
+    case PrimitiveType::disk: return Disk{{x, 0, z}, unit({0, 1, 0.6}), 1.0};
+    case PrimitiveType::rectangle: return Rectangle{{x - 0.9, -0.5, z + 0.8}, {1.8, 0, 0}, {0, 0.9, -1.56}};
+    case PrimitiveType::box: return Box{{x - 0.8, -0.8, z - 0.8}, {x + 0.8, 0.8, z + 0.8}};
+    case PrimitiveType::triangle: return Triangle{{x - 1, -0.5, z + 0.9}, {x + 1, -0.5, z + 0.9}, {x, 0.8, z - 0.9}};
+    }
+    return Sphere{};
+}
+
+}  // namespace
+
+Scene grid_scene(Layout layout, int n, bool floor, int width, int height) {
+    Scene s;
+    const int cols = std::max(1, int(std::ceil(std::sqrt(double(n)))));
+    const int rows = (n + cols - 1) / cols;
+    constexpr double kCell = 2.5;
+    const double extent = std::max(cols, rows) * kCell / 2;
+    const double dist = 1.5 + 2.8 * extent;
+    const double down = 40.0 * 3.14159265358979323846 / 180.0;
+    s.camera.type = CameraType::pinhole;
+    s.camera.look_at = {0, 0, 0};
+    s.camera.eye = {0, dist * std::sin(down), dist * std::cos(down)};
+    s.camera.up = {0, 1, 0};
+    s.camera.fov_y = 45;
+    s.camera.width = width;
+    s.camera.height = height;
+    s.background = {0.1, 0.1, 0.15};
+    s.ambient = AmbientLight{{1, 1, 1}, 0.25};
+    s.directional_lights.push_back(DirectionalLight{unit({1, 2, 1}), {1, 1, 1}, 2.0, false});
+    const Vec3d colours[4] = {{1, 0.2, 0.2}, {0.2, 1, 0.2}, {0.2, 0.3, 1}, {0.9, 0.9, 0.9}};
+    for (int m = 0; m < 4; ++m) s.materials.push_back(Material{"m" + std::to_string(m), 0.25, 0.65, colours[m]});
+    for (int i = 0; i < n; ++i) {
+        const double x = (i % cols - (cols - 1) / 2.0) * kCell;
+        const double z = (i / cols - (rows - 1) / 2.0) * kCell;
+        const PrimitiveType type = layout == Layout::mixed ? PrimitiveType(i % kPrimitiveTypeCount) : PrimitiveType(int(layout));
+        s.objects.push_back(Object{grid_shape(type, i, x, z), i % 4});
+    }
+    if (floor) s.objects.push_back(Object{Plane{{0, -1.25, 0}, {0, 1, 0}}, 3});
+    return s;
+}
+
+RaySet camera_rays(const PacketScene& scene) {
+    RaySet set;
+    set.width = scene.camera.width;
+    set.height = scene.camera.height;
+    const Kernel k = select_kernel(scene, Path::simd);
+    for (int y = 0; y < set.height; ++y)
+        for (int x0 = 0; x0 < set.width; x0 += kPacketWidth) {
+            set.packets.emplace_back();
+            k.camera(scene, x0, y, set.packets.back());
+            for (int i = 0; i < kPacketWidth; ++i) set.active += set.packets.back().active[i] != 0;
+        }
+    return set;
+}
+
+AlignedVec<HitPacket8> trace(const Kernel& kernel, const PacketScene& scene, const RaySet& rays) {
+    AlignedVec<HitPacket8> hits(rays.packets.size());
+    for (std::size_t p = 0; p < rays.packets.size(); ++p) kernel.intersect(scene, rays.packets[p], hits[p]);
+    return hits;
+}
+
+void time_intersect(benchmark::State& state, const Kernel& kernel, const PacketScene& scene, const RaySet& rays) {
+    HitPacket8 hits;
+    for (auto _ : state) {
+        for (const RayPacket8& rp : rays.packets) {
+            kernel.intersect(scene, rp, hits);
+            benchmark::DoNotOptimize(hits);
+        }
+    }
+    state.SetLabel(kernel.name());
+    set_ray_counters(state, rays.rays(), intersect_flops_per_ray(scene));
+}
+
+double hit_fraction(const RaySet& rays, const AlignedVec<HitPacket8>& hits) {
+    std::int64_t n = 0;
+    for (const HitPacket8& h : hits)
+        for (int i = 0; i < kPacketWidth; ++i) n += h.hit[i] != 0;
+    return rays.active == 0 ? 0.0 : double(n) / double(rays.active);
+}
+
+// =============================================================================
+// Peak: sustained FP32 FMA throughput at 8 lanes.
+//
+// Each chain is acc = acc * m + a (one vfmadd231ps ymm, dependent on itself).
+// An FMA has a latency of 4 cycles and these cores issue two per cycle (ports
+// 0 and 1), so 8 chains in flight saturate both pipes; we run 12 (they fit in
+// the 16 ymm registers with m and a) for slack. acc converges to a/(1-m) ~ 1.7:
+// no overflow, no denormals.
+// =============================================================================
+namespace {
+
+template <int C>
+__attribute__((target("avx2,fma"))) float fma_chains_n(std::int64_t reps) {
+    __m256 acc[C];
+#pragma GCC unroll 16
+    for (int c = 0; c < C; ++c) acc[c] = _mm256_set1_ps(1.0f + 0.001f * float(c));
+    const __m256 m = _mm256_set1_ps(0.99999994f), a = _mm256_set1_ps(1e-7f);
+    for (std::int64_t i = 0; i < reps; ++i) {
+#pragma GCC unroll 16
+        for (int c = 0; c < C; ++c) acc[c] = _mm256_fmadd_ps(acc[c], m, a);
+    }
+    __m256 sum = acc[0];
+#pragma GCC unroll 16
+    for (int c = 1; c < C; ++c) sum = _mm256_add_ps(sum, acc[c]);
+    alignas(32) float out[8];
+    _mm256_store_ps(out, sum);
+    return out[0] + out[1] + out[2] + out[3] + out[4] + out[5] + out[6] + out[7];
+}
+
+}  // namespace
+
+float fma_chains(int chains, std::int64_t reps) {
+    switch (chains) {
+    case 1: return fma_chains_n<1>(reps);
+    case 4: return fma_chains_n<4>(reps);
+    case 8: return fma_chains_n<8>(reps);
+    case 10: return fma_chains_n<10>(reps);
+    default: return fma_chains_n<12>(reps);
+    }
+}
+
+double fma_peak_gflops() {
+    static const double peak = [] {
+        if (!simd_supported()) return 0.0;
+        constexpr std::int64_t kReps = 1 << 18;
+        double best = 0;
+        for (int trial = 0; trial < 15; ++trial) {
+            const auto t0 = std::chrono::steady_clock::now();
+            benchmark::DoNotOptimize(fma_chains(12, kReps));
+            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            best = std::max(best, 12.0 * kFmaChainFlops * double(kReps) / s * 1e-9);
+        }
+        return best;
+    }();
+    return peak;
+}
+
+void set_ray_counters(benchmark::State& state, std::int64_t rays_per_iteration, double flops_per_ray) {
+    using benchmark::Counter;
+    const double rays = double(state.iterations()) * double(rays_per_iteration);
+    state.SetItemsProcessed(std::int64_t(rays));
+    state.counters["ns_per_ray"] = Counter(rays * 1e-9, Counter::kIsRate | Counter::kInvert);
+    state.counters["flops_per_ray"] = Counter(flops_per_ray);
+    state.counters["GFLOPS"] = Counter(rays * flops_per_ray * 1e-9, Counter::kIsRate);
+    const double peak = fma_peak_gflops();
+    if (peak > 0) state.counters["frac_peak"] = Counter(rays * flops_per_ray * 1e-9 / peak, Counter::kIsRate);
+}
+
+std::string default_scene_path() {
+    if (const char* p = std::getenv("OCTRAY_DEFAULT_SCENE"); p && *p) return p;
+#ifdef OCTRAY_DEFAULT_SCENE_PATH
+    return OCTRAY_DEFAULT_SCENE_PATH;
+#else
+    return "scenes/default.json";
+#endif
+}
+
+void set_ftz_daz() {
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+int run_main(int argc, char** argv, void (*register_all)()) {
+    set_ftz_daz();  // for octray and Embree alike
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    register_all();
+    char peak[64];
+    std::snprintf(peak, sizeof peak, "%.2f", fma_peak_gflops());
+    benchmark::AddCustomContext("octray_fma_peak_gflops_calibration", peak);
+    benchmark::AddCustomContext("octray_simd_supported", simd_supported() ? "yes" : "no");
+    benchmark::AddCustomContext("octray_ftz_daz", "on");
+    benchmark::AddCustomContext("octray_simd_kernel_isa", general_kernel(Path::simd).isa);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
+
+}  // namespace octray::bench

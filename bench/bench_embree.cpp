@@ -1,0 +1,487 @@
+// bench/bench_embree.cpp — the peer: Intel Embree 3 against octray's
+// intersect kernel on the same scenes and exactly the same rays.
+//
+// Scenes: N spheres (N = 1, 4, 16, 64, 256) on the grid of bench_common, and
+// the same spheres over a floor plane (N = 1, 16, 64). Rays: octray's pinhole
+// camera, 256 x 256 = 65536 rays (8192 packets), all active, every ray below
+// the horizon. The same RayPacket8s feed octray; Embree gets the same floats
+// copied once into RTCRayHit8 / RTCRayHit arrays.
+//
+// Rules, identical for both: one thread (Embree device "threads=1"), FTZ/DAZ
+// on (bench_common run_main), closest hit only, the hit primitive is the
+// answer. Per call Embree needs tfar and geomID reset (two stores per ray);
+// that is in its timed loop, as an application would have to do it.
+//
+// Embree variants (names peer/SCENE/VARIANT):
+//   embree8_native  rtcIntersect8, spheres as RTC_GEOMETRY_TYPE_SPHERE_POINT
+//   embree8_user    rtcIntersect8, spheres as user geometry (the callback below:
+//                   8 lanes with AVX2+FMA when Embree hands it a packet,
+//                   one lane otherwise; same stable quadratic as octray)
+//   embree1_native, embree1_user    the same with rtcIntersect1, ray by ray
+//   embree8_{native,user}_isa_avx2  device "threads=1,isa=avx2": Embree held
+//                   to octray's instruction set (its default here may be AVX-512)
+// The floor plane is one RTC_GEOMETRY_TYPE_QUAD, large enough to hold every
+// floor hit of the ray set (octray's plane is infinite; the cross-check proves
+// the quad is large enough). Build quality HIGH, context flag COHERENT: the
+// settings that favour Embree on camera rays.
+// octray variants: octray_simd, octray_scalar (select_kernel for the scene).
+//
+// Cross-check before timing counts: every variant's hit primitive per ray is
+// compared with octray's SIMD kernel; a benchmark whose match is below 99.99%
+// stops with SkipWithError. `octray_bench_embree --crosscheck` prints the
+// whole table and exits 1 on any failure (a CTest test).
+#include "bench_common.hpp"
+
+#include <embree3/rtcore.h>
+#include <immintrin.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace octray::bench {
+namespace {
+
+constexpr int kPeerImage = 256;
+constexpr double kRequiredMatch = 0.9999;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// ---- Embree devices --------------------------------------------------------------
+void on_embree_error(void* user, RTCError code, const char* message) {
+    std::fprintf(stderr, "embree (%s): error %d: %s\n", static_cast<const char*>(user), int(code), message ? message : "");
+}
+
+RTCDevice device(bool isa_avx2) {
+    static std::map<bool, RTCDevice> devices;
+    auto it = devices.find(isa_avx2);
+    if (it != devices.end()) return it->second;
+    const char* config = isa_avx2 ? "threads=1,isa=avx2" : "threads=1";
+    RTCDevice d = rtcNewDevice(config);
+    if (d) rtcSetDeviceErrorFunction(d, on_embree_error, const_cast<char*>(config));
+    devices[isa_avx2] = d;
+    return d;
+}
+
+std::string embree_isa_guess(RTCDevice d) {
+    if (!d) return "unavailable";
+    if (rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED)) return "avx512 (native ray16)";
+    if (rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED)) return "avx/avx2 (native ray8)";
+    return "sse (native ray4)";
+}
+
+// ---- user-geometry spheres -----------------------------------------------------------
+struct UserSpheres {
+    std::vector<float> xyzr;  // center and radius per sphere
+};
+
+void user_bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* s = static_cast<const UserSpheres*>(args->geometryUserPtr);
+    const float* c = &s->xyzr[4 * std::size_t(args->primID)];
+    RTCBounds* b = args->bounds_o;
+    b->lower_x = c[0] - c[3], b->lower_y = c[1] - c[3], b->lower_z = c[2] - c[3];
+    b->upper_x = c[0] + c[3], b->upper_y = c[1] + c[3], b->upper_z = c[2] + c[3];
+}
+
+// One lane: octray's stable quadratic (kernels/packet_kernels.hpp sphere_t).
+void user_intersect1(const RTCIntersectFunctionNArguments* args, unsigned i) {
+    const auto* s = static_cast<const UserSpheres*>(args->geometryUserPtr);
+    const float* c = &s->xyzr[4 * std::size_t(args->primID)];
+    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+    const unsigned N = args->N;
+    const float ox = RTCRayN_org_x(ray, N, i), oy = RTCRayN_org_y(ray, N, i), oz = RTCRayN_org_z(ray, N, i);
+    const float dx = RTCRayN_dir_x(ray, N, i), dy = RTCRayN_dir_y(ray, N, i), dz = RTCRayN_dir_z(ray, N, i);
+    const float fx = ox - c[0], fy = oy - c[1], fz = oz - c[2], r2 = c[3] * c[3];
+    const float b = fx * dx + fy * dy + fz * dz, dd = dx * dx + dy * dy + dz * dz;
+    const float inv_dd = 1.0f / dd, s_ = b * inv_dd;
+    const float px = fx - dx * s_, py = fy - dy * s_, pz = fz - dz * s_;
+    const float disc = r2 - (px * px + py * py + pz * pz);
+    if (!(disc >= 0.0f)) return;
+    const float sd = std::sqrt(disc * dd);
+    const float cc = fx * fx + fy * fy + fz * fz - r2;
+    const float q = -(b + std::copysign(sd, b));
+    const float t0 = q * inv_dd, t1 = cc / q;
+    const float tnear = std::min(t0, t1), tfar = std::max(t0, t1);
+    const float tmin = RTCRayN_tnear(ray, N, i);
+    const float t = tnear > tmin ? tnear : tfar;
+    if (!(t > tmin && t < RTCRayN_tfar(ray, N, i))) return;
+    RTCRayN_tfar(ray, N, i) = t;
+    RTCHitN_Ng_x(hit, N, i) = fx + dx * t, RTCHitN_Ng_y(hit, N, i) = fy + dy * t, RTCHitN_Ng_z(hit, N, i) = fz + dz * t;
+    RTCHitN_u(hit, N, i) = 0, RTCHitN_v(hit, N, i) = 0;
+    RTCHitN_primID(hit, N, i) = args->primID;
+    RTCHitN_geomID(hit, N, i) = args->geomID;
+    RTCHitN_instID(hit, N, i, 0) = args->context->instID[0];
+}
+
+// dst[i] = v[i] where mask lane i is set.
+__attribute__((target("avx2,fma"), always_inline)) inline void put8(float* dst, __m256 v, __m256 mask) {
+    _mm256_store_ps(dst, _mm256_blendv_ps(_mm256_load_ps(dst), v, mask));
+}
+__attribute__((target("avx2,fma"), always_inline)) inline void put8(unsigned* dst, unsigned v, __m256 mask) {
+    put8(reinterpret_cast<float*>(dst), _mm256_castsi256_ps(_mm256_set1_epi32(int(v))), mask);
+}
+
+// Eight lanes at once, the same arithmetic with AVX2 + FMA.
+__attribute__((target("avx2,fma"))) void user_intersect8(const RTCIntersectFunctionNArguments* args) {
+    const auto* s = static_cast<const UserSpheres*>(args->geometryUserPtr);
+    const float* c = &s->xyzr[4 * std::size_t(args->primID)];
+    RTCRayHit8* rh = reinterpret_cast<RTCRayHit8*>(args->rayhit);
+    const __m256 valid = _mm256_castsi256_ps(_mm256_cmpeq_epi32(
+        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(args->valid)), _mm256_set1_epi32(-1)));
+    const __m256 dx = _mm256_load_ps(rh->ray.dir_x), dy = _mm256_load_ps(rh->ray.dir_y), dz = _mm256_load_ps(rh->ray.dir_z);
+    const __m256 fx = _mm256_sub_ps(_mm256_load_ps(rh->ray.org_x), _mm256_set1_ps(c[0]));
+    const __m256 fy = _mm256_sub_ps(_mm256_load_ps(rh->ray.org_y), _mm256_set1_ps(c[1]));
+    const __m256 fz = _mm256_sub_ps(_mm256_load_ps(rh->ray.org_z), _mm256_set1_ps(c[2]));
+    const __m256 r2 = _mm256_set1_ps(c[3] * c[3]);
+    const __m256 b = _mm256_fmadd_ps(fx, dx, _mm256_fmadd_ps(fy, dy, _mm256_mul_ps(fz, dz)));
+    const __m256 dd = _mm256_fmadd_ps(dx, dx, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dz, dz)));
+    const __m256 inv_dd = _mm256_div_ps(_mm256_set1_ps(1.0f), dd);
+    const __m256 sb = _mm256_mul_ps(b, inv_dd);
+    const __m256 px = _mm256_fnmadd_ps(dx, sb, fx), py = _mm256_fnmadd_ps(dy, sb, fy), pz = _mm256_fnmadd_ps(dz, sb, fz);
+    const __m256 disc = _mm256_sub_ps(r2, _mm256_fmadd_ps(px, px, _mm256_fmadd_ps(py, py, _mm256_mul_ps(pz, pz))));
+    const __m256 any = _mm256_and_ps(valid, _mm256_cmp_ps(disc, _mm256_setzero_ps(), _CMP_GE_OQ));
+    if (_mm256_movemask_ps(any) == 0) return;
+    const __m256 sd = _mm256_sqrt_ps(_mm256_max_ps(_mm256_mul_ps(disc, dd), _mm256_setzero_ps()));
+    const __m256 cc = _mm256_sub_ps(_mm256_fmadd_ps(fx, fx, _mm256_fmadd_ps(fy, fy, _mm256_mul_ps(fz, fz))), r2);
+    const __m256 sign = _mm256_set1_ps(-0.0f);
+    const __m256 q = _mm256_xor_ps(_mm256_add_ps(b, _mm256_or_ps(sd, _mm256_and_ps(b, sign))), sign);
+    const __m256 t0 = _mm256_mul_ps(q, inv_dd), t1 = _mm256_div_ps(cc, q);
+    const __m256 tn = _mm256_min_ps(t0, t1), tf = _mm256_max_ps(t0, t1);
+    const __m256 tmin = _mm256_load_ps(rh->ray.tnear), tmax = _mm256_load_ps(rh->ray.tfar);
+    const __m256 t = _mm256_blendv_ps(tf, tn, _mm256_cmp_ps(tn, tmin, _CMP_GT_OQ));
+    const __m256 hit = _mm256_and_ps(_mm256_and_ps(any, _mm256_cmp_ps(t, tmin, _CMP_GT_OQ)), _mm256_cmp_ps(t, tmax, _CMP_LT_OQ));
+    if (_mm256_movemask_ps(hit) == 0) return;
+    _mm256_store_ps(rh->ray.tfar, _mm256_blendv_ps(tmax, t, hit));
+    put8(rh->hit.Ng_x, _mm256_fmadd_ps(dx, t, fx), hit);
+    put8(rh->hit.Ng_y, _mm256_fmadd_ps(dy, t, fy), hit);
+    put8(rh->hit.Ng_z, _mm256_fmadd_ps(dz, t, fz), hit);
+    put8(rh->hit.u, _mm256_setzero_ps(), hit);
+    put8(rh->hit.v, _mm256_setzero_ps(), hit);
+    put8(rh->hit.primID, args->primID, hit);
+    put8(rh->hit.geomID, args->geomID, hit);
+    put8(rh->hit.instID[0], args->context->instID[0], hit);
+}
+
+void user_intersect(const RTCIntersectFunctionNArguments* args) {
+    static const bool avx2 = simd_supported();
+    if (args->N == 8 && avx2) return user_intersect8(args);
+    for (unsigned i = 0; i < args->N; ++i)
+        if (args->valid[i] == -1) user_intersect1(args, i);
+}
+
+// ---- scenes ------------------------------------------------------------------
+enum class Variant { octray_simd, octray_scalar, embree8_native, embree8_user, embree1_native, embree1_user,
+                     embree8_native_avx2, embree8_user_avx2 };
+constexpr const char* kVariantNames[] = {"octray_simd",    "octray_scalar", "embree8_native", "embree8_user",
+                                         "embree1_native", "embree1_user",  "embree8_native_isa_avx2",
+                                         "embree8_user_isa_avx2"};
+bool is_embree(Variant v) { return v != Variant::octray_simd && v != Variant::octray_scalar; }
+bool is_user(Variant v) { return v == Variant::embree8_user || v == Variant::embree1_user || v == Variant::embree8_user_avx2; }
+bool is_avx2(Variant v) { return v == Variant::embree8_native_avx2 || v == Variant::embree8_user_avx2; }
+bool is_packet(Variant v) { return v != Variant::embree1_native && v != Variant::embree1_user; }
+
+struct Peer {
+    std::string name;
+    int n = 0;
+    bool floor = false;
+    PacketScene scene;
+    RaySet rays;
+    std::vector<int> reference;  // octray SIMD hit primitive per ray (-1: miss)
+    float quad_half = 0;         // half side of Embree's floor quad
+    UserSpheres spheres;
+    AlignedVec<RTCRayHit8> rays8;  // pristine Embree copies of the ray set
+    std::vector<RTCRayHit> rays1;
+    AlignedVec<std::array<int, 8>> valid8;
+    std::map<int, RTCScene> embree;           // by (user, avx2) key
+    std::map<int, std::pair<double, std::int64_t>> crosscheck;  // by variant: match, mismatches
+};
+
+Peer& peer(bool floor, int n) {
+    static std::map<std::pair<bool, int>, std::unique_ptr<Peer>> cache;
+    auto& slot = cache[{floor, n}];
+    if (slot) return *slot;
+    slot = std::make_unique<Peer>();
+    Peer& p = *slot;
+    p.n = n;
+    p.floor = floor;
+    p.name = std::string(floor ? "spheres+plane:" : "spheres:") + std::to_string(n);
+    p.scene = compile(grid_scene(Layout::sphere, n, floor, kPeerImage, kPeerImage));
+    p.rays = camera_rays(p.scene);
+    const AlignedVec<HitPacket8> hits = trace(select_kernel(p.scene, Path::simd), p.scene, p.rays);
+    double far = 10;
+    for (std::size_t k = 0; k < hits.size(); ++k)
+        for (int i = 0; i < kPacketWidth; ++i) {
+            p.reference.push_back(hits[k].hit[i] ? hits[k].primitive[i] : -1);
+            if (hits[k].hit[i] && hits[k].primitive[i] == n) {  // a floor hit
+                const RayPacket8& r = p.rays.packets[k];
+                const float t = hits[k].t[i];
+                far = std::max({far, std::fabs(double(r.ox[i] + r.dx[i] * t)), std::fabs(double(r.oz[i] + r.dz[i] * t))});
+            }
+        }
+    p.quad_half = float(2 * far);
+    const Scene authored = grid_scene(Layout::sphere, n, floor, kPeerImage, kPeerImage);
+    for (int k = 0; k < n; ++k) {
+        const Sphere& s = std::get<Sphere>(authored.objects[std::size_t(k)].shape);
+        p.spheres.xyzr.insert(p.spheres.xyzr.end(), {float(s.center.x), float(s.center.y), float(s.center.z), float(s.radius)});
+    }
+    // Embree copies of the rays.
+    p.rays8.resize(p.rays.packets.size());
+    p.valid8.resize(p.rays.packets.size());
+    for (std::size_t k = 0; k < p.rays.packets.size(); ++k) {
+        const RayPacket8& r = p.rays.packets[k];
+        RTCRayHit8& e = p.rays8[k];
+        std::memset(&e, 0, sizeof e);
+        for (int i = 0; i < kPacketWidth; ++i) {
+            e.ray.org_x[i] = r.ox[i], e.ray.org_y[i] = r.oy[i], e.ray.org_z[i] = r.oz[i];
+            e.ray.dir_x[i] = r.dx[i], e.ray.dir_y[i] = r.dy[i], e.ray.dir_z[i] = r.dz[i];
+            e.ray.tnear[i] = r.tmin[i], e.ray.tfar[i] = r.tmax[i];
+            e.ray.mask[i] = ~0u, e.ray.id[i] = unsigned(k * kPacketWidth + std::size_t(i));
+            e.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID, e.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+            p.valid8[k][std::size_t(i)] = r.active[i] ? -1 : 0;
+            RTCRayHit one{};
+            one.ray.org_x = r.ox[i], one.ray.org_y = r.oy[i], one.ray.org_z = r.oz[i];
+            one.ray.dir_x = r.dx[i], one.ray.dir_y = r.dy[i], one.ray.dir_z = r.dz[i];
+            one.ray.tnear = r.tmin[i], one.ray.tfar = r.tmax[i];
+            one.ray.mask = ~0u, one.ray.id = e.ray.id[i];
+            one.hit.geomID = RTC_INVALID_GEOMETRY_ID, one.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            p.rays1.push_back(one);
+        }
+    }
+    return p;
+}
+
+// Embree scene for a peer: geometry 0 = spheres, geometry 1 = the floor quad.
+RTCScene embree_scene(Peer& p, bool user, bool avx2) {
+    const int key = int(user) * 2 + int(avx2);
+    if (auto it = p.embree.find(key); it != p.embree.end()) return it->second;
+    RTCDevice dev = device(avx2);
+    RTCScene scene = nullptr;
+    if (dev) {
+        scene = rtcNewScene(dev);
+        rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+        RTCGeometry g;
+        if (user) {
+            g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
+            rtcSetGeometryUserPrimitiveCount(g, unsigned(p.n));
+            rtcSetGeometryUserData(g, &p.spheres);
+            rtcSetGeometryBoundsFunction(g, user_bounds, nullptr);
+            rtcSetGeometryIntersectFunction(g, user_intersect);
+        } else {
+            g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                                  4 * sizeof(float), std::size_t(p.n)));
+            std::memcpy(v, p.spheres.xyzr.data(), p.spheres.xyzr.size() * sizeof(float));
+        }
+        rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(scene, g, 0);
+        rtcReleaseGeometry(g);
+        if (p.floor) {
+            RTCGeometry q = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_QUAD);
+            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(q, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
+            const float h = p.quad_half, y = -1.25f;
+            const float corners[12] = {-h, y, -h, -h, y, h, h, y, h, h, y, -h};
+            std::memcpy(v, corners, sizeof corners);
+            auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(q, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), 1));
+            idx[0] = 0, idx[1] = 1, idx[2] = 2, idx[3] = 3;
+            rtcCommitGeometry(q);
+            rtcAttachGeometryByID(scene, q, 1);
+            rtcReleaseGeometry(q);
+        }
+        rtcCommitScene(scene);
+    }
+    p.embree[key] = scene;
+    return scene;
+}
+
+RTCIntersectContext coherent_context() {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    return ctx;
+}
+
+// One pass of Embree over the whole ray set, working copies in place.
+void embree_pass8(RTCScene scene, AlignedVec<RTCRayHit8>& rh, const AlignedVec<std::array<int, 8>>& valid) {
+    RTCIntersectContext ctx = coherent_context();
+    const std::size_t n = rh.size();
+    for (std::size_t k = 0; k < n; ++k) {
+        RTCRayHit8& r = rh[k];
+        for (int i = 0; i < 8; ++i) r.ray.tfar[i] = kInf, r.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect8(valid[k].data(), scene, &ctx, &r);
+    }
+}
+void embree_pass1(RTCScene scene, std::vector<RTCRayHit>& rh) {
+    RTCIntersectContext ctx = coherent_context();
+    for (RTCRayHit& r : rh) {
+        r.ray.tfar = kInf, r.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &ctx, &r);
+    }
+}
+
+int object_of(const Peer& p, unsigned geom, unsigned prim) {
+    if (geom == 0) return int(prim);
+    if (geom == 1) return p.n;  // the floor is the last object
+    return -1;
+}
+
+// Per-ray hit primitive of a variant (untimed).
+std::vector<int> answers(Peer& p, Variant v) {
+    std::vector<int> out;
+    if (!is_embree(v)) {
+        const Kernel k = select_kernel(p.scene, v == Variant::octray_simd ? Path::simd : Path::scalar);
+        for (const HitPacket8& h : trace(k, p.scene, p.rays))
+            for (int i = 0; i < kPacketWidth; ++i) out.push_back(h.hit[i] ? h.primitive[i] : -1);
+        return out;
+    }
+    RTCScene scene = embree_scene(p, is_user(v), is_avx2(v));
+    if (!scene) return out;
+    if (is_packet(v)) {
+        AlignedVec<RTCRayHit8> rh = p.rays8;
+        embree_pass8(scene, rh, p.valid8);
+        for (const RTCRayHit8& r : rh)
+            for (int i = 0; i < 8; ++i) out.push_back(object_of(p, r.hit.geomID[i], r.hit.primID[i]));
+    } else {
+        std::vector<RTCRayHit> rh = p.rays1;
+        embree_pass1(scene, rh);
+        for (const RTCRayHit& r : rh) out.push_back(object_of(p, r.hit.geomID, r.hit.primID));
+    }
+    return out;
+}
+
+// Fraction of rays on which `v` hits the same primitive as octray's SIMD kernel.
+std::pair<double, std::int64_t> crosscheck(Peer& p, Variant v) {
+    if (auto it = p.crosscheck.find(int(v)); it != p.crosscheck.end()) return it->second;
+    const std::vector<int> got = answers(p, v);
+    std::int64_t same = 0;
+    if (got.size() == p.reference.size())
+        for (std::size_t i = 0; i < got.size(); ++i) same += got[i] == p.reference[i];
+    const std::int64_t total = std::int64_t(p.reference.size());
+    const auto result = std::make_pair(total ? double(same) / double(total) : 0.0, total - same);
+    p.crosscheck[int(v)] = result;
+    return result;
+}
+
+// ---- the benchmark -------------------------------------------------------------
+void bm_peer(benchmark::State& st, bool floor, int n, Variant v) {
+    Peer& p = peer(floor, n);
+    if (is_embree(v) && !embree_scene(p, is_user(v), is_avx2(v))) {
+        st.SkipWithError("Embree device or scene could not be created");
+        return;
+    }
+    const auto [match, mismatches] = crosscheck(p, v);
+    st.counters["xcheck_match"] = match;
+    st.counters["xcheck_mismatch"] = double(mismatches);
+    if (match < kRequiredMatch) {
+        const std::string msg = "cross-check failed: same primitive on " + std::to_string(100 * match) + "% of rays (< 99.99%)";
+        st.SkipWithError(msg.c_str());
+        return;
+    }
+    if (!is_embree(v)) {
+        time_intersect(st, select_kernel(p.scene, v == Variant::octray_simd ? Path::simd : Path::scalar), p.scene, p.rays);
+        return;
+    }
+    if (is_packet(v)) {
+        RTCScene scene = embree_scene(p, is_user(v), is_avx2(v));
+        AlignedVec<RTCRayHit8> rh = p.rays8;
+        for (auto _ : st) {
+            embree_pass8(scene, rh, p.valid8);
+            benchmark::ClobberMemory();
+        }
+        st.SetLabel(std::string("embree ") + RTC_VERSION_STRING + " rtcIntersect8 " + (is_avx2(v) ? "isa=avx2" : embree_isa_guess(device(false))));
+    } else {
+        RTCScene scene = embree_scene(p, is_user(v), false);
+        std::vector<RTCRayHit> rh = p.rays1;
+        for (auto _ : st) {
+            embree_pass1(scene, rh);
+            benchmark::ClobberMemory();
+        }
+        st.SetLabel(std::string("embree ") + RTC_VERSION_STRING + " rtcIntersect1 " + embree_isa_guess(device(false)));
+    }
+    // Embree's FLOPs are not ours to count: no GFLOPS for its rows.
+    set_ray_counters(st, p.rays.rays(), 0);
+    for (const char* c : {"GFLOPS", "frac_peak", "flops_per_ray"}) st.counters.erase(c);
+}
+
+struct PeerCase { bool floor; int n; };
+constexpr PeerCase kCases[] = {{false, 1}, {false, 4}, {false, 16}, {false, 64}, {false, 256},
+                               {true, 1},  {true, 16}, {true, 64}};
+constexpr Variant kVariants[] = {Variant::octray_simd,    Variant::octray_scalar, Variant::embree8_native,
+                                 Variant::embree8_user,   Variant::embree1_native, Variant::embree1_user,
+                                 Variant::embree8_native_avx2, Variant::embree8_user_avx2};
+
+void register_all() {
+    for (const PeerCase& c : kCases)
+        for (Variant v : kVariants) {
+            const std::string name = std::string("peer/") + (c.floor ? "spheres+plane:" : "spheres:") + std::to_string(c.n) + "/" +
+                                     kVariantNames[int(v)];
+            benchmark::RegisterBenchmark(name.c_str(), [c, v](benchmark::State& st) { bm_peer(st, c.floor, c.n, v); });
+        }
+    benchmark::AddCustomContext("embree_version", RTC_VERSION_STRING);
+    benchmark::AddCustomContext("embree_default_isa", embree_isa_guess(device(false)));
+}
+
+int run_crosscheck() {
+    int failures = 0;
+    std::printf("%-18s %-24s %10s %10s %s\n", "scene", "variant", "match %", "mismatch", "verdict");
+    for (const PeerCase& c : kCases)
+        for (Variant v : kVariants) {
+            if (v == Variant::octray_simd) continue;
+            Peer& p = peer(c.floor, c.n);
+            if (is_embree(v) && !embree_scene(p, is_user(v), is_avx2(v))) {
+                std::printf("%-18s %-24s %10s %10s FAIL (no Embree scene)\n", p.name.c_str(), kVariantNames[int(v)], "-", "-");
+                ++failures;
+                continue;
+            }
+            const auto [match, mismatches] = crosscheck(p, v);
+            const bool ok = match >= kRequiredMatch;
+            failures += !ok;
+            std::printf("%-18s %-24s %10.4f %10lld %s\n", p.name.c_str(), kVariantNames[int(v)], 100 * match,
+                        static_cast<long long>(mismatches), ok ? "ok" : "FAIL");
+        }
+    // Control: the check must have teeth. Embree's native spheres with radii
+    // 2% too large must fail it.
+    {
+        Peer& p = peer(false, 16);
+        Peer wrong;
+        wrong.n = p.n;
+        wrong.spheres = p.spheres;
+        for (std::size_t k = 3; k < wrong.spheres.xyzr.size(); k += 4) wrong.spheres.xyzr[k] *= 1.02f;
+        RTCScene scene = embree_scene(wrong, false, false);
+        std::int64_t same = 0;
+        if (scene) {
+            AlignedVec<RTCRayHit8> rh = p.rays8;
+            embree_pass8(scene, rh, p.valid8);
+            for (std::size_t k = 0; k < rh.size(); ++k)
+                for (int i = 0; i < 8; ++i) same += object_of(p, rh[k].hit.geomID[i], rh[k].hit.primID[i]) == p.reference[k * 8 + std::size_t(i)];
+            rtcReleaseScene(scene);
+        }
+        const double match = double(same) / double(p.reference.size());
+        const bool ok = scene && match < kRequiredMatch;
+        failures += !ok;
+        std::printf("%-18s %-24s %10.4f %10lld %s\n", "control", "radii+2% (must fail)", 100 * match,
+                    static_cast<long long>(std::int64_t(p.reference.size()) - same), ok ? "ok (rejected)" : "FAIL (accepted)");
+    }
+    std::printf("%s: every variant must hit the same primitive as octray simd on >= 99.99%% of %d rays\n",
+                failures ? "FAILED" : "passed", kPeerImage * kPeerImage);
+    return failures ? 1 : 0;
+}
+
+}  // namespace
+}  // namespace octray::bench
+
+int main(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i)
+        if (std::strcmp(argv[i], "--crosscheck") == 0) {
+            octray::bench::set_ftz_daz();
+            return octray::bench::run_crosscheck();
+        }
+    return octray::bench::run_main(argc, argv, octray::bench::register_all);
+}
