@@ -7,12 +7,16 @@
 //
 // Sources: shading is the seed's eq. 7-8 (ambient + sum of Lambertian terms,
 // n.l clamped at zero), point lights eq. 6. Sphere: stable quadratic with the
-// perpendicular-distance discriminant (pbrt-v4, Pharr et al., sec. 6.8.1).
-// Triangle: Plucker-coordinate edge test evaluated in ray-relative space, so
-// an edge shared by two triangles gives both exactly opposite edge values and a
-// ray through it hits at least one (watertight; Embree's "Plucker" intersector,
-// cf. Woop, Benthin, Wald 2013). Box: slab test (Kay & Kajiya 1986) with the
-// NaN cases resolved explicitly.
+// perpendicular-distance discriminant (pbrt-v4, Pharr et al., sec. 6.8.1), or
+// b^2/a - c where that is the better conditioned, c = |f|^2 - r^2 by a
+// compensated dot product (Ogita, Rump & Oishi 2005). The stiff and extreme
+// cases these choices answer, each with its bound, are the catalogue of
+// tools/stability_cases.hpp (`octray stability`).
+// Triangle: the watertight test of Woop, Benthin & Wald (JCGT 2013): vertices
+// projected per ray onto the plane across the ray, then 2D edge functions
+// whose sign is exact or zero, so no ray through a shared edge or vertex
+// misses every triangle (see triangle_t). Box: slab test (Kay & Kajiya 1986)
+// with the NaN cases resolved explicitly.
 //
 // Each translation unit that includes this file defines OCTRAY_ISA, a name
 // for its instruction set; every template here lives in a namespace of that
@@ -98,9 +102,50 @@ struct Ray {
     T tmin, tmax;
     Mask<T> valid;  // active and numerically usable
     // Per-ray quantities shared by every primitive test (hoisted out of the loops).
-    T inv_dd;        // 1 / (d.d)
-    Vec3<T> inv_d;   // 1 / d per axis, +-inf for a zero component
+    T inv_dd;        // 1 / (d.d), IEEE in every precision mode (see finish_ray)
+    T len_d;         // |d| = sqrt(d.d)
+    Vec3<T> inv_d;   // 1 / d per axis, +-inf for a zero or subnormal component
+    // Projection across the ray for triangles: (v.proj_a, v.proj_b) are v's
+    // coordinates in the plane sheared along d (Woop et al.'s Sx, Sy, kz).
+    Vec3<T> proj_a, proj_b;
 };
+
+// Smallest and largest d.d a ray may have: 1/(d.d) and d.d must both be normal
+// floats, so |d| in [2^-63, 2^63).
+inline constexpr float kMinDirection2 = 0x1p-126f;
+inline constexpr float kMaxDirection2 = 0x1p126f;
+
+// Fills the per-ray reciprocals. 1/(d.d) is an IEEE division whatever the
+// precision mode: it is paid once per ray, and the sphere's perpendicular
+// offset f - d (f.d / d.d) subtracts nearly equal vectors for a far sphere,
+// where an estimate's 2^-12 error in 1/(d.d) would move the ray by 2^-12 |f|
+// (a miss for r = 1 at distance 1e4). The slab reciprocals treat a subnormal
+// component like zero (signed infinity): the estimate instructions read
+// subnormals as zero and their Newton step would make inf * 0 = NaN.
+template <class T, Precision P>
+inline void finish_ray(Ray<T, P>& r, const T& dd) {
+    r.inv_dd = T(1) / dd;
+    r.len_d = lane::sqrt(dd);
+    auto inv_axis = [](const T& c) {
+        return lane::select(lane::abs(c) < T(std::numeric_limits<float>::min()), lane::copysign(inf<T>(), c),
+                            lane::rcp<P>(c));
+    };
+    r.inv_d = {inv_axis(r.d.x), inv_axis(r.d.y), inv_axis(r.d.z)};
+    // Shear along the dominant axis kz of d (kx, ky the next two, cyclic):
+    // proj_a = e_kx - (d_kx / d_kz) e_kz, proj_b = e_ky - (d_ky / d_kz) e_kz,
+    // both orthogonal to d; |d_kz| >= |d| / sqrt(3), so the ratios are <= 1.
+    const T ax = lane::abs(r.d.x), ay = lane::abs(r.d.y), az = lane::abs(r.d.z);
+    const Mask<T> zx = ax >= ay && ax >= az, zy = !zx && ay >= az;
+    const T inv_dz = T(1) / lane::select(zx, r.d.x, lane::select(zy, r.d.y, r.d.z));
+    // kz = x: (kx, ky) = (y, z); kz = y: (z, x); kz = z: (x, y).
+    const T sx = lane::select(zx, r.d.y, lane::select(zy, r.d.z, r.d.x)) * inv_dz;
+    const T sy = lane::select(zx, r.d.z, lane::select(zy, r.d.x, r.d.y)) * inv_dz;
+    const T zero(0), one(1), msx = zero - sx, msy = zero - sy;
+    r.proj_a = {lane::select(zx, msx, lane::select(zy, zero, one)), lane::select(zx, one, lane::select(zy, msx, zero)),
+                lane::select(zx, zero, lane::select(zy, one, msx))};
+    r.proj_b = {lane::select(zx, msy, lane::select(zy, one, zero)), lane::select(zx, zero, lane::select(zy, msy, one)),
+                lane::select(zx, one, lane::select(zy, zero, msy))};
+}
 
 // Loads lanes [lane, lane + width) and masks off what no kernel can trace:
 // inactive lanes, non-finite origin or direction, zero direction, an empty or
@@ -116,9 +161,9 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     const T dd = fdot(r.d, r.d);
     const Mask<T> finite = lane::isfinite(r.o.x) && lane::isfinite(r.o.y) && lane::isfinite(r.o.z) &&
                            lane::isfinite(r.d.x) && lane::isfinite(r.d.y) && lane::isfinite(r.d.z);
-    // dd must be a positive normal float: a zero or denormal-length direction
-    // has no usable reciprocal; an overflowing one no usable square.
-    const Mask<T> usable_d = dd >= T(std::numeric_limits<float>::min()) && lane::isfinite(dd);
+    // dd must be a normal float with a normal reciprocal: a zero or subnormal
+    // length has no usable reciprocal; a huge one (|d| >= 2^63) none either.
+    const Mask<T> usable_d = dd >= T(kMinDirection2) && dd < T(kMaxDirection2);
     const Mask<T> interval = r.tmin < r.tmax && !lane::isnan(r.tmin) && !lane::isnan(r.tmax);
     r.valid = active && finite && usable_d && interval;
     masked += lane::count(active && !r.valid);
@@ -127,11 +172,7 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     r.d = {lane::select(r.valid, r.d.x, T(0)), lane::select(r.valid, r.d.y, T(0)), lane::select(r.valid, r.d.z, T(1))};
     r.tmin = lane::select(r.valid, r.tmin, T(0));
     r.tmax = lane::select(r.valid, r.tmax, T(0));  // empty interval: no hit can be accepted
-    r.inv_dd = lane::rcp<P>(lane::select(r.valid, dd, T(1)));
-    // Box slabs need 1/d with a signed infinity for zero components; estimate
-    // modes would turn rcp(0) into NaN through their Newton step.
-    auto inv_axis = [](const T& c) { return lane::select(c == T(0), lane::copysign(inf<T>(), c), lane::rcp<P>(c)); };
-    r.inv_d = {inv_axis(r.d.x), inv_axis(r.d.y), inv_axis(r.d.z)};
+    finish_ray(r, lane::select(r.valid, dd, T(1)));
     return r;
 }
 
@@ -139,26 +180,119 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
 // Each returns the candidate t (anything, NaN included, where `hit` is false)
 // and the hit mask for the open interval (tmin, tbest).
 
-// Sphere. Boundary rule: a tangent ray (discriminant exactly 0) hits.
-// From inside, the far root is the hit. disc/a^2 = r^2 - |f - (f.d/d.d) d|^2
-// never cancels catastrophically for rays passing far from a huge sphere.
-template <class T, Precision P>
-inline T sphere_t(const Ray<T, P>& r, const Vec3<T>& center, const T& radius2, Mask<T>& hit, const T& tbest) {
-    const Vec3<T> f = r.o - center;
+// Rounding error of s = a + b: a + b = s + two_sum_error(a, b, s) exactly
+// (Knuth's TwoSum; needs -ffp-contract=off, which this library builds with).
+template <class T>
+inline T two_sum_error(const T& a, const T& b, const T& s) {
+    const T bv = s - a;
+    return (a - (s - bv)) + (b - bv);
+}
+
+// |f|^2 - r^2 without cancellation ("Dot2", Ogita, Rump & Oishi 2005): each
+// square is split exactly, x*x = p + fma(x, x, -p), and the rounding errors of
+// the sum of the p's are recovered, so |f|^2 is held as s2 + lo to O(u^2 |f|^2);
+// r^2 comes as r2 + r2_lo likewise. Near the surface s2 and r2 agree to many
+// digits and s2 - r2 is exact (Sterbenz): c comes out correctly rounded up to
+// O(u^2 |f|^2). The textbook fdot(f, f) - r2 (and equally (|f| - r)(|f| + r)
+// with |f| = sqrt(fl(f.f))) keeps an absolute error ~u |f|^2: 3% of t for an
+// origin 1 unit above a planet of radius 1e6.
+template <class T>
+inline T norm2_compensated(const Vec3<T>& f, const T& r2, const T& r2_lo) {
+    const T px = f.x * f.x, py = f.y * f.y, pz = f.z * f.z;
+    const T s1 = px + py, s2 = s1 + pz;
+    const T lo = (lane::fma(f.x, f.x, T(0) - px) + lane::fma(f.y, f.y, T(0) - py)) + lane::fma(f.z, f.z, T(0) - pz);
+    return (s2 - r2) + ((lo - r2_lo) + (two_sum_error(px, py, s1) + two_sum_error(s1, pz, s2)));
+}
+
+template <class T>
+struct SphereRoots {
+    T t0, t1;   // q/a and c/q (unordered)
+    T disc;     // r^2 - |perp|^2: the hit needs disc >= 0
+    T size2;    // max(|f|^2, r^2), to detect overflow
+};
+
+// r^2 = r2 + r2_lo exactly; `radius` (when HasRadius) gives r2_lo = fma(r, r, -r2).
+template <bool HasRadius, class T, Precision P>
+inline SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, const T& r2, const T& radius) {
     const T b = fdot(f, r.d);                       // half of the textbook b
-    const Vec3<T> perp = f - r.d * (b * r.inv_dd);  // f minus its projection on d
-    const T disc_per_a = radius2 - fdot(perp, perp);  // (b^2 - a c) / a, no cancellation
-    const T a = fdot(r.d, r.d);
-    const T sd = lane::sqrt(lane::max(disc_per_a * a, T(0)));
-    const T c = fdot(f, f) - radius2;
+    const T b_a = b * r.inv_dd;
+    const Vec3<T> perp = f - r.d * b_a;             // f minus its projection on d
+    // disc = (b^2 - a c) / a^2 = r^2 - |perp|^2: from perp its error is
+    // ~u |perp| |f|, small for a ray passing a far sphere, where the
+    // textbook b^2 - ac cancels.
+    T disc = r2 - fdot(perp, perp);
+    const T s2 = fdot(f, f);
+    T c = s2 - r2;
+    // Near the surface c cancels: the plain difference keeps an error
+    // ~2u max(|f|^2, r^2), within 8u of |c| unless |c| < max / 4. Lanes that
+    // cancel more (origins within ~15% of the radius of the surface: shadow
+    // rays, a camera near a big sphere) take the compensated c, and there
+    // disc = b^2/a - c where that is the better conditioned: its error is
+    // ~u (b^2/a + |c|), small for a grazing ray (1 above a planet toward the
+    // horizon), where |perp| ~ r ~ |f| cancels instead; it is taken when
+    // b^2/a + |c| < |f|^2 / 2 (then its bound is below the other's; else the
+    // other's is at most twice it). The choice is per lane, so a lane's result
+    // never depends on its packet; a packet with no such lane skips the work.
+    const T size2 = lane::max(s2, r2);
+    const Mask<T> cancels = lane::abs(c) < T(0.25f) * size2;
+    if (lane::any(cancels)) {
+        T r2_lo(0);
+        if constexpr (HasRadius) r2_lo = lane::fma(radius, radius, T(0) - r2);
+        c = lane::select(cancels, norm2_compensated(f, r2, r2_lo), c);
+        const T b2_a = b * b_a;
+        disc = lane::select(cancels && b2_a + lane::abs(c) < T(0.5f) * s2, b2_a - c, disc);
+    }
+    // sqrt(disc) |d| rather than sqrt(disc a): no overflow for long directions.
+    const T sd = lane::sqrt(lane::max(disc, T(0))) * r.len_d;
     const T q = T(0) - (b + lane::copysign(sd, b));
     // Stable pair q/a and c/q: never -b + sqrt(...) with the two nearly equal.
-    const T t0 = q * r.inv_dd;
-    const T t1 = lane::div<P>(c, q);
-    const T tnear = lane::min(t0, t1), tfar = lane::max(t0, t1);
+    return {q * r.inv_dd, lane::div<P>(c, q), disc, size2};
+}
+
+// Sphere of r^2 = r2 (+ the exact remainder of radius^2 when HasRadius).
+// Boundary rule: a tangent ray (discriminant exactly 0) hits. From inside, the
+// far root is the hit. Neither the discriminant nor c = |f|^2 - r^2 cancels
+// catastrophically (sphere_roots).
+// Huge coordinates: where |f|^2 or r^2 exceeds 2^100 (|f| beyond ~1e15; the
+// squares overflow float near 1.8e19) the lanes are recomputed in units of
+// 2^72 — a power of two, so the scaling is exact and t = 2^72 t'. The branch
+// is taken only by packets that need it; a root beyond the float range is +inf
+// and misses.
+template <bool HasRadius, class T, Precision P>
+inline T sphere_hit(const Ray<T, P>& r, const Vec3<T>& center, const T& r2, const T& radius, Mask<T>& hit,
+                    const T& tbest) {
+    SphereRoots<T> s = sphere_roots<HasRadius>(r, r.o - center, r2, radius);
+    const Mask<T> huge = !(s.size2 <= T(0x1p100f));
+    if (lane::any(huge)) {
+        const T k = lane::select(huge, T(0x1p-72f), T(1)), unscale = lane::select(huge, T(0x1p72f), T(1));
+        const SphereRoots<T> h = sphere_roots<HasRadius>(r, r.o * k - center * k, r2 * (k * k), radius * k);
+        s = {h.t0 * unscale, h.t1 * unscale, h.disc, h.size2};
+    }
+    const T tnear = lane::min(s.t0, s.t1), tfar = lane::max(s.t0, s.t1);
     const T t = lane::select(tnear > r.tmin, tnear, tfar);
-    hit = disc_per_a >= T(0) && t > r.tmin && t < tbest;
+    hit = s.disc >= T(0) && t > r.tmin && t < tbest;
     return t;
+}
+
+// A sphere's radius as authored (SphereArrays::radius), to tell it from r^2.
+template <class T>
+struct SphereRadius {
+    T r;
+};
+
+// The sphere of the compiled scene: r^2 split exactly from the float radius,
+// so a radius such as 1e6 (exact in float; its square is not: float(1e12)
+// moves the surface by 0.002, 0.2% of t from 1 unit above) loses nothing.
+template <class T, Precision P>
+inline T sphere_t(const Ray<T, P>& r, const Vec3<T>& center, const SphereRadius<T>& radius, Mask<T>& hit,
+                  const T& tbest) {
+    return sphere_hit<true>(r, center, radius.r * radius.r, radius.r, hit, tbest);
+}
+
+// The sphere with r^2 given as one float (its rounding then part of the input).
+template <class T, Precision P>
+inline T sphere_t(const Ray<T, P>& r, const Vec3<T>& center, const T& radius2, Mask<T>& hit, const T& tbest) {
+    return sphere_hit<false>(r, center, radius2, T(0), hit, tbest);
 }
 
 // Plane. Boundary rule: a ray parallel to the plane (d.n == 0), including one
@@ -216,23 +350,48 @@ inline T box_t(const Ray<T, P>& r, const Vec3<T>& lo, const Vec3<T>& hi, Mask<T>
     return t;
 }
 
-// Triangle, watertight (see the file header). Boundary rule: edges and
-// vertices hit (closed edge tests); a ray in the triangle's plane misses.
+// Edge functions of the watertight test: the vertices' coordinates across the
+// ray (projections shared by every triangle that has the vertex), then 2D
+// cross products fl(fl(a b) - fl(c d)). Rounding is monotone, so each sign
+// is the exact sign for the projected points or 0; a shared edge gives
+// exactly opposite values; and around a shared vertex the signs are those of
+// one exact 2D configuration, in which the ray's point lies in some closed
+// triangle of the fan. lo/hi: the least and greatest of the three.
 template <class T, Precision P>
-inline T triangle_t(const Ray<T, P>& r, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, Mask<T>& hit,
-                    const T& tbest) {
-    const Vec3<T> v0 = a - r.o, v1 = b - r.o, v2 = c - r.o;
-    // Edge values: signed volumes of (edge, ray); a shared edge evaluates the
-    // same sums and products with opposite sign, exactly.
-    const T e0 = dot(cross(v2 - v0, v2 + v0), r.d);
-    const T e1 = dot(cross(v0 - v1, v0 + v1), r.d);
-    const T e2 = dot(cross(v1 - v2, v1 + v2), r.d);
-    const T lo = lane::min(e0, lane::min(e1, e2)), hi = lane::max(e0, lane::max(e1, e2));
-    const Mask<T> inside = lo >= T(0) || hi <= T(0);
-    const Vec3<T> ng = cross(v1 - v0, v2 - v0);
-    const T den = dot(ng, r.d);
+inline void triangle_edges(const Ray<T, P>& r, const Vec3<T>& v0, const Vec3<T>& v1, const Vec3<T>& v2, T& lo, T& hi) {
+    const T x0 = fdot(r.proj_a, v0), y0 = fdot(r.proj_b, v0);
+    const T x1 = fdot(r.proj_a, v1), y1 = fdot(r.proj_b, v1);
+    const T x2 = fdot(r.proj_a, v2), y2 = fdot(r.proj_b, v2);
+    const T e0 = x1 * y2 - y1 * x2, e1 = x2 * y0 - y2 * x0, e2 = x0 * y1 - y0 * x1;
+    lo = lane::min(e0, lane::min(e1, e2)), hi = lane::max(e0, lane::max(e1, e2));
+}
+
+// Triangle, watertight (see triangle_edges). Boundary rule: edges and
+// vertices hit (closed edge tests); a ray in the triangle's plane misses.
+// t comes from the compiled unit normal n (rounded once from double), not
+// from cross products of the ray-relative vertices: those lose |v|/edge ulps
+// for a triangle far from the origin, and their cube overflows float sooner.
+// Huge coordinates: the edge functions are of degree 2 in v = vertex - o;
+// where one is not finite (|v| beyond ~1e18) the lane is re-evaluated in units
+// of 2^72 — exact, and only signs count, so an edge shared with an unscaled
+// neighbour keeps its exactly opposite sign (rare branch).
+template <class T, Precision P>
+inline T triangle_t(const Ray<T, P>& r, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, const Vec3<T>& n,
+                    Mask<T>& hit, const T& tbest) {
+    const Vec3<T> v0 = a - r.o;
+    T lo, hi;
+    triangle_edges(r, v0, b - r.o, c - r.o, lo, hi);
+    const Mask<T> huge = !lane::isfinite(lo + hi);
+    if (lane::any(huge)) {
+        const T k = lane::select(huge, T(0x1p-72f), T(1));
+        const Vec3<T> ok = r.o * k;
+        triangle_edges(r, a * k - ok, b * k - ok, c * k - ok, lo, hi);
+    }
+    // In the plane (or degenerate): all three are 0, or d.n = 0.
+    const Mask<T> inside = (lo >= T(0) || hi <= T(0)) && (lo != T(0) || hi != T(0));
+    const T den = fdot(n, r.d);
     const Mask<T> facing = den != T(0);
-    const T t = lane::div<P>(dot(ng, v0), lane::select(facing, den, T(1)));
+    const T t = lane::div<P>(fdot(n, v0), lane::select(facing, den, T(1)));
     hit = inside && facing && t > r.tmin && t < tbest;
     return t;
 }
@@ -264,7 +423,7 @@ template <PrimitiveType Type, class T, Precision P>
 inline T test_primitive(const PacketScene& s, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
     if constexpr (Type == PrimitiveType::sphere) {
         const SphereArrays& a = s.spheres;
-        return sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast<T>(a.radius2, k), hit, tbest);
+        return sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, tbest);
     } else if constexpr (Type == PrimitiveType::plane) {
         const PlaneArrays& a = s.planes;
         return plane_t(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
@@ -284,7 +443,7 @@ inline T test_primitive(const PacketScene& s, int k, const Ray<T, P>& r, Mask<T>
     } else {
         const TriangleArrays& a = s.triangles;
         return triangle_t(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
-                          broadcast3<T>(a.x2, a.y2, a.z2, k), hit, tbest);
+                          broadcast3<T>(a.x2, a.y2, a.z2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
     }
 }
 
@@ -305,8 +464,9 @@ inline Closest<T> closest_hit(const PacketScene& s, const Ray<T, P>& r) {
 
 // Unit geometric normal at p for the lanes whose hit has compiled id `cid`,
 // with the scene data gathered per lane; lanes of other types are untouched.
+// `d` (the ray direction) breaks ties on box edges.
 template <class T, unsigned F>
-inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, const Mask<T>& hit) {
+inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, const Mask<T>& hit, const Vec3<T>& d) {
     Vec3<T> n{T(0), T(0), T(1)};
     for_each_primitive_type<F>(s, [&](auto tag, int count) {
         constexpr PrimitiveType type = decltype(tag)::value;
@@ -326,13 +486,18 @@ inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, 
             m = gather3(s.rectangles.nx, s.rectangles.ny, s.rectangles.nz, k);
         } else if constexpr (type == PrimitiveType::box) {
             // The face is the axis where p sits farthest out relative to the
-            // half extent; ties (edges) go to x, then y.
+            // half extent. On an edge or corner (a tie) it is the face the ray
+            // crosses most steeply (largest |d| component; then x, then y): a
+            // ray gliding along one face into an edge enters through the other,
+            // as the reference's deciding slab says.
             const BoxArrays& a = s.boxes;
             const Vec3<T> lo = gather3(a.minx, a.miny, a.minz, k), hi = gather3(a.maxx, a.maxy, a.maxz, k);
             const Vec3<T> c = (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
             const Vec3<T> q = p - c;
             const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
-            const Mask<T> ax = rx >= ry && rx >= rz, ay = !ax && ry >= rz, az = !ax && !ay;
+            const T dx = lane::abs(d.x), dy = lane::abs(d.y), dz = lane::abs(d.z);
+            const Mask<T> ax = (rx > ry || (rx == ry && dx >= dy)) && (rx > rz || (rx == rz && dx >= dz));
+            const Mask<T> ay = !ax && (ry > rz || (ry == rz && dy >= dz)), az = !ax && !ay;
             m = {lane::select(ax, lane::copysign(T(1), q.x), T(0)), lane::select(ay, lane::copysign(T(1), q.y), T(0)),
                  lane::select(az, lane::copysign(T(1), q.z), T(0))};
         } else {
@@ -351,7 +516,7 @@ inline int intersect_lanes(const PacketScene& s, const RayPacket8& rp, HitPacket
     const Mask<T> hit = r.valid && best.cid >= T(0);
     const T cid = lane::select(hit, best.cid, T(0));
     const Vec3<T> p = r.o + r.d * best.t;
-    Vec3<T> n = hit_normal<T, F>(s, cid, p, hit);
+    Vec3<T> n = hit_normal<T, F>(s, cid, p, hit, r.d);
     // Face-forward (two-sided shading): the normal opposes the ray.
     const Mask<T> away = fdot(n, r.d) > T(0);
     n = {lane::select(away, T(0) - n.x, n.x), lane::select(away, T(0) - n.y, n.y), lane::select(away, T(0) - n.z, n.z)};
@@ -412,17 +577,27 @@ inline Ray<T, P> shadow_ray(const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l
     r.tmin = T(0);
     r.tmax = dist;
     r.valid = valid;
-    r.inv_dd = lane::rcp<P>(fdot(l, l));
-    auto inv_axis = [](const T& c) { return lane::select(c == T(0), lane::copysign(inf<T>(), c), lane::rcp<P>(c)); };
-    r.inv_d = {inv_axis(l.x), inv_axis(l.y), inv_axis(l.z)};
+    finish_ray(r, fdot(l, l));
     return r;
 }
 
 // Adds one light's ls*cl * max(0, n.l) [* 1/r^2] to E where `lit`.
+// Summation: plain recursive, one FMA per term. Every term is >= 0, so the
+// relative error of the sum is <= (n-1) u for n lights whatever their dynamic
+// range (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed.,
+// sec. 4.2): a term below u of the total is rounded away, which is its correct
+// rounding. Compensated summation would only remove that (n-1) u, which the
+// per-term errors (n.l, 1/r^2, a few u each) match anyway; `octray stability`
+// measures it (case lights_64_over_12_decades). Overflow: a term whose weight
+// or ls*cl is +inf gives +inf, never NaN: 0 * inf (an unlit lane's zero weight
+// times an infinite ls*cl, or a zero colour channel times an infinite weight)
+// is NaN, and max(x, e) keeps e there (lane::max returns its second operand on
+// NaN); elsewhere x = e + radiance * w >= e, so the max changes nothing.
 template <class T>
 inline void accumulate(Vec3<T>& e, const Mask<T>& lit, const T& weight, const Vec3<T>& radiance) {
     const T w = lane::select(lit, weight, T(0));
-    e = {lane::fma(radiance.x, w, e.x), lane::fma(radiance.y, w, e.y), lane::fma(radiance.z, w, e.z)};
+    e = {lane::max(lane::fma(radiance.x, w, e.x), e.x), lane::max(lane::fma(radiance.y, w, e.y), e.y),
+         lane::max(lane::fma(radiance.z, w, e.z), e.z)};
 }
 
 template <class T, Precision P, unsigned F>
@@ -453,18 +628,37 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
     }
     auto point_lights = [&](const PointArrays& a, int count, auto attenuated) {
         for (int k = 0; k < count; ++k) {
-            const Vec3<T> v = broadcast3<T>(a.px, a.py, a.pz, k) - p;
-            const T r2 = fdot(v, v);
-            const Mask<T> apart = r2 > T(0);  // a light on the surface point lights nothing
-            const T inv_r = lane::rsqrt<P>(lane::select(apart, r2, T(1)));
+            const Vec3<T> pos = broadcast3<T>(a.px, a.py, a.pz, k);
+            Vec3<T> v = pos - p;
+            T r2 = fdot(v, v), scale = T(1), unscale = T(1);
+            // r^2 outside [2^-100, 2^100] (a light nearer than ~1e-15 or farther
+            // than ~1e15: r^2 subnormal, zero or overflowing, where rsqrt loses
+            // bits or the estimate modes read 0): measure v in units of 2^-80
+            // or 2^80 instead. Powers of two, so exact; a rare branch.
+            const Mask<T> odd = hit && !(r2 >= T(0x1p-100f) && r2 <= T(0x1p100f));
+            if (lane::any(odd)) {
+                const Mask<T> far = r2 > T(1);
+                scale = lane::select(odd, lane::select(far, T(0x1p-80f), T(0x1p80f)), T(1));
+                unscale = lane::select(odd, lane::select(far, T(0x1p80f), T(0x1p-80f)), T(1));
+                v = pos * scale - p * scale;
+                r2 = fdot(v, v);
+            }
+            const Mask<T> apart = r2 > T(0);  // a light exactly on the surface point lights nothing
+            const T inv_r = lane::rsqrt<P>(lane::select(apart, r2, T(1)));  // 1/|v|, v in its units
             const T ndl = fdot(n, v) * inv_r;
             Mask<T> lit = hit && apart && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
                 if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && !any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, v * inv_r, r2 * inv_r, lit, reach));
+                    lit = lit && !any_hit<T, P, kAllPrimitives>(
+                                     s, shadow_ray<T, P>(p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach));
             }
             T weight = ndl;
-            if constexpr (decltype(attenuated)::value) weight = weight * (inv_r * inv_r);  // eq. 6: 1/r^2
+            if constexpr (decltype(attenuated)::value) {
+                // eq. 6: 1/r^2. Below r ~ 1e-19 it overflows to +inf: the lit
+                // channels become +inf, never NaN (see accumulate).
+                const T inv_dist = inv_r * scale;
+                weight = weight * (inv_dist * inv_dist);
+            }
             accumulate(e, lit, weight, broadcast3<T>(a.r, a.g, a.b, k));
         }
     };
@@ -473,6 +667,9 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
 
     // L = ka cd * ls cl  +  kd cd / pi * E   (eq. 8, the diffuse factor taken out of the sum)
     Vec3<T> c = hadamard(gather3(s.diffuse_r, s.diffuse_g, s.diffuse_b, m), e);
+    // kd cd = 0 times an overflowed E = +inf is NaN; the radiance is 0 there
+    // (max(x, 0) flushes NaN to 0; every other x is >= 0 and passes).
+    c = {lane::max(c.x, T(0)), lane::max(c.y, T(0)), lane::max(c.z, T(0))};
     if constexpr ((F & kAmbient) != 0) c += gather3(s.ambient_r, s.ambient_g, s.ambient_b, m);
     store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));
     store(out.g, lane, lane::select(hit, c.y, T(s.background[1])));

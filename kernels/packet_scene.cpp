@@ -86,6 +86,7 @@ PacketScene compile(const Scene& scene) {
                     push3(a.cx, a.cy, a.cz, p.center);
                     push(a.radius2, p.radius * p.radius);
                     push(a.inv_radius, 1.0 / p.radius);
+                    push(a.radius, p.radius);
                 } else if constexpr (std::is_same_v<P, Plane>) {
                     auto& a = s.planes;
                     push3(a.px, a.py, a.pz, p.point);
@@ -120,7 +121,7 @@ PacketScene compile(const Scene& scene) {
     }
     // The per-type arrays were filled in object order; compiled ids are type-major,
     // which is the same order within each type.
-    pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.radius2, s.spheres.inv_radius);
+    pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.radius2, s.spheres.inv_radius, s.spheres.radius);
     pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
     pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);
     auto& r = s.rectangles;

@@ -46,6 +46,23 @@ std::optional<double> nearest_of(double t0, double t1, double tmin, double tmax)
     return std::nullopt;
 }
 
+// |f|^2 - r^2 without cancellation: each square split exactly with an FMA
+// (x*x = p + fma(x, x, -p)) and the sum's rounding errors recovered (TwoSum),
+// so near a huge sphere's surface, where |f|^2 and r^2 agree to many digits,
+// c keeps its relative accuracy (the plain difference loses |f|^2 / |c| ulps:
+// a radius-1e9 sphere seen from 1 above would leave 1e-7 in the oracle).
+double norm2_minus(const Vec3d& f, double r) {
+    const double terms[4] = {f.x * f.x, f.y * f.y, f.z * f.z, -(r * r)};
+    double sum = 0, err = std::fma(f.x, f.x, -terms[0]) + std::fma(f.y, f.y, -terms[1]) +
+                         std::fma(f.z, f.z, -terms[2]) - std::fma(r, r, terms[3]);
+    for (double x : terms) {
+        const double s = sum + x, bv = s - sum;
+        err += (sum - (s - bv)) + (x - bv);
+        sum = s;
+    }
+    return sum + err;
+}
+
 // Sphere. BOUNDARY RULE: a tangent ray (discriminant exactly 0) is a hit.
 // From inside, the near root is behind the origin, so the far root is returned.
 // Discriminant in the perpendicular-distance form b^2 - 4ac = 4a (r - |v|)(r + |v|),
@@ -57,7 +74,7 @@ std::optional<double> intersect_sphere(const Sphere& s, const Ray& ray, double t
     const Vec3d f = ray.origin - s.center;
     const double a = dot(d, d);
     const double b = 2.0 * dot(f, d);
-    const double c = dot(f, f) - s.radius * s.radius;
+    const double c = norm2_minus(f, s.radius);
     const double vlen = length(f - d * (dot(f, d) / a));
     const double disc = 4.0 * a * (s.radius - vlen) * (s.radius + vlen);
     if (!(disc >= 0.0)) return std::nullopt;  // also rejects NaN

@@ -40,7 +40,8 @@ template <class T>
 using AlignedVector = std::vector<T, AlignedAllocator<T>>;
 using Floats = AlignedVector<float>;
 
-struct SphereArrays { Floats cx, cy, cz, radius2, inv_radius; };
+// radius: as authored, rounded once (1e6 stays exact; its square would not).
+struct SphereArrays { Floats cx, cy, cz, radius2, inv_radius, radius; };
 struct PlaneArrays { Floats px, py, pz, nx, ny, nz; };
 struct DiskArrays { Floats cx, cy, cz, nx, ny, nz, radius2; };
 // p = corner + s a + t b; s = (p - corner).dual_a, t = (p - corner).dual_b.
