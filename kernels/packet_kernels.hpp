@@ -64,6 +64,10 @@ template <class T>
 inline void store_index(std::int32_t* p, int lane, const T& v) {
     if constexpr (lane::width<T> == 1) {
         p[lane] = std::int32_t(v);
+#if defined(__AVX__)
+    } else if constexpr (std::is_same_v<lane::Scalar<T>, float> && lane::width<T> == 8) {
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(p + lane), _mm256_cvttps_epi32(v));
+#endif
     } else {
         alignas(64) lane::Scalar<T> tmp[lane::width<T>];
         v.store_aligned(tmp);
@@ -100,7 +104,8 @@ template <class T, Precision P>
 struct Ray {
     Vec3<T> o, d;
     T tmin, tmax;
-    Mask<T> valid;  // active and numerically usable
+    Mask<T> valid;    // active and numerically usable
+    Mask<T> invalid;  // active but masked off for bad input
     // Per-ray quantities shared by every primitive test (hoisted out of the loops).
     T inv_dd;        // 1 / (d.d), IEEE in every precision mode (see finish_ray)
     T len_d;         // |d| = sqrt(d.d)
@@ -166,7 +171,8 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     const Mask<T> usable_d = dd >= T(kMinDirection2) && dd < T(kMaxDirection2);
     const Mask<T> interval = r.tmin < r.tmax && !lane::isnan(r.tmin) && !lane::isnan(r.tmax);
     r.valid = active && finite && usable_d && interval;
-    masked += lane::count(active && !r.valid);
+    r.invalid = active && !r.valid;
+    masked += lane::count(r.invalid);
     // Replace what was masked off by a ray that hits nothing it could poison.
     r.o = {lane::select(r.valid, r.o.x, T(0)), lane::select(r.valid, r.o.y, T(0)), lane::select(r.valid, r.o.z, T(0))};
     r.d = {lane::select(r.valid, r.d.x, T(0)), lane::select(r.valid, r.d.y, T(0)), lane::select(r.valid, r.d.z, T(1))};
@@ -527,6 +533,7 @@ inline int intersect_lanes(const PacketScene& s, const RayPacket8& rp, HitPacket
     store(hp.ny, lane, lane::select(hit, n.y, T(0)));
     store(hp.nz, lane, lane::select(hit, n.z, T(0)));
     store_mask<T>(hp.hit, lane, hit);
+    store_mask<T>(hp.invalid, lane, r.invalid);
     return masked;
 }
 
@@ -577,6 +584,7 @@ inline Ray<T, P> shadow_ray(const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l
     r.tmin = T(0);
     r.tmax = dist;
     r.valid = valid;
+    r.invalid = Mask<T>(false);
     finish_ray(r, fdot(l, l));
     return r;
 }

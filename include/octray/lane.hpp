@@ -198,8 +198,19 @@ inline void store_floats(float* p, const B& v) {
 
 template <class S, class A>
 inline xsimd::batch<S, A> gather(const S* base, const xsimd::batch<S, A>& index) {
+    using B = xsimd::batch<S, A>;
+#if defined(__AVX2__)
+    // xsimd 8.1 emulates float gathers with 8 inserts and a chain of blends
+    // (~34 instructions); one vgatherdps does it.
+    if constexpr (std::is_same_v<S, float> && B::size == 8)
+        return B(_mm256_i32gather_ps(base, _mm256_cvttps_epi32(index), 4));
+#endif
+#if defined(__AVX512F__)
+    if constexpr (std::is_same_v<S, float> && B::size == 16)
+        return B(_mm512_i32gather_ps(_mm512_cvttps_epi32(index), base, 4));
+#endif
     using I = xsimd::as_integer_t<S>;
-    return xsimd::batch<S, A>::gather(base, xsimd::batch_cast<I>(index));
+    return B::gather(base, xsimd::batch_cast<I>(index));
 }
 // Double lanes reading a float scene array.
 template <class A>
