@@ -52,12 +52,12 @@ void store_hit(const PacketScene& s, const Ray<T, P>& r, const T& t, const T& ci
 // Spheres only; compiled id k = sphere k.
 int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P, kSphere>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     T best = r.tmax, cid(-1);
     for (int k = 0; k < s.count[0]; ++k) {
         M hit;
-        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast<T>(a.radius2, k), hit, best);
+        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best);
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     }
@@ -70,7 +70,7 @@ int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp
 // Planes only.
 int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P, kPlane>(rp, 0, masked);
     const PlaneArrays& a = s.planes;
     T best = r.tmax, cid(-1);
     for (int k = 0; k < s.count[1]; ++k) {
@@ -87,13 +87,13 @@ int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
 // Spheres, then planes (compiled ids: spheres first).
 int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P, kSphere | kPlane>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     const PlaneArrays& b = s.planes;
     T best = r.tmax, cid(-1);
     for (int k = 0; k < s.count[0]; ++k) {
         M hit;
-        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast<T>(a.radius2, k), hit, best);
+        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best);
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     }
@@ -118,7 +118,7 @@ int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPack
 // Triangles only.
 int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P, kTriangle>(rp, 0, masked);
     const TriangleArrays& a = s.triangles;
     T best = r.tmax, cid(-1);
     for (int k = 0; k < s.count[5]; ++k) {
@@ -136,7 +136,7 @@ int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& 
 // Boxes only; the face normal from the hit point as in the library kernel.
 int intersect_boxes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P, kBox>(rp, 0, masked);
     const BoxArrays& a = s.boxes;
     T best = r.tmax, cid(-1);
     for (int k = 0; k < s.count[4]; ++k) {

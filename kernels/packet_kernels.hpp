@@ -38,6 +38,14 @@
 #include <limits>
 #include <type_traits>
 
+// The hot path of a primitive test must inline into its loop (GCC otherwise
+// keeps the sphere test out of line and reloads the ray from memory for every
+// sphere); the rare robust paths stay out of line to keep that loop small.
+#ifndef OCTRAY_HOT
+#define OCTRAY_HOT inline __attribute__((always_inline))
+#define OCTRAY_COLD __attribute__((noinline, cold))
+#endif
+
 namespace octray::kernels::OCTRAY_ISA {
 
 using lane::Mask;
@@ -127,15 +135,20 @@ inline constexpr float kMaxDirection2 = 0x1p126f;
 // (a miss for r = 1 at distance 1e4). The slab reciprocals treat a subnormal
 // component like zero (signed infinity): the estimate instructions read
 // subnormals as zero and their Newton step would make inf * 0 = NaN.
-template <class T, Precision P>
+// Only what the primitive types in F use is computed: the slab reciprocals for
+// boxes, the shear for triangles.
+template <unsigned F, class T, Precision P>
 inline void finish_ray(Ray<T, P>& r, const T& dd) {
     r.inv_dd = T(1) / dd;
     r.len_d = lane::sqrt(dd);
+    if constexpr ((F & kBox) != 0) {
     auto inv_axis = [](const T& c) {
         return lane::select(lane::abs(c) < T(std::numeric_limits<float>::min()), lane::copysign(inf<T>(), c),
                             lane::rcp<P>(c));
     };
     r.inv_d = {inv_axis(r.d.x), inv_axis(r.d.y), inv_axis(r.d.z)};
+    }
+    if constexpr ((F & kTriangle) == 0) return;
     // Shear along the dominant axis kz of d (kx, ky the next two, cyclic):
     // proj_a = e_kx - (d_kx / d_kz) e_kz, proj_b = e_ky - (d_ky / d_kz) e_kz,
     // both orthogonal to d; |d_kz| >= |d| / sqrt(3), so the ratios are <= 1.
@@ -155,7 +168,7 @@ inline void finish_ray(Ray<T, P>& r, const T& dd) {
 // Loads lanes [lane, lane + width) and masks off what no kernel can trace:
 // inactive lanes, non-finite origin or direction, zero direction, an empty or
 // NaN interval. Masked lanes get a harmless ray so no NaN is ever computed.
-template <class T, Precision P>
+template <class T, Precision P, unsigned F = kAllFeatures>
 inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     Ray<T, P> r;
     r.o = {load<T>(rp.ox, lane), load<T>(rp.oy, lane), load<T>(rp.oz, lane)};
@@ -178,7 +191,7 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     r.d = {lane::select(r.valid, r.d.x, T(0)), lane::select(r.valid, r.d.y, T(0)), lane::select(r.valid, r.d.z, T(1))};
     r.tmin = lane::select(r.valid, r.tmin, T(0));
     r.tmax = lane::select(r.valid, r.tmax, T(0));  // empty interval: no hit can be accepted
-    finish_ray(r, lane::select(r.valid, dd, T(1)));
+    finish_ray<F>(r, lane::select(r.valid, dd, T(1)));
     return r;
 }
 
@@ -219,15 +232,22 @@ struct SphereRoots {
 
 // r^2 = r2 + r2_lo exactly; `radius` (when HasRadius) gives r2_lo = fma(r, r, -r2).
 template <bool HasRadius, class T, Precision P>
-inline SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, const T& r2, const T& radius) {
+OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, const T& r2, const T& radius) {
     const T b = fdot(f, r.d);                       // half of the textbook b
     const T b_a = b * r.inv_dd;
     const Vec3<T> perp = f - r.d * b_a;             // f minus its projection on d
     // disc = (b^2 - a c) / a^2 = r^2 - |perp|^2: from perp its error is
     // ~u |perp| |f|, small for a ray passing a far sphere, where the
     // textbook b^2 - ac cancels.
-    T disc = r2 - fdot(perp, perp);
+    const T perp2 = fdot(perp, perp);
+    T disc = r2 - perp2;
     const T s2 = fdot(f, f);
+    // A packet whose every lane misses by far more than the rounding error of
+    // disc (~u (r^2 + |f|^2), the margin is 16 times that) stops here: most
+    // packets miss most spheres, and the sqrt and division below are the
+    // slow part. NaN or inf (huge coordinates) never takes this exit, and a
+    // lane's answer is the same either way.
+    if (!lane::any(!(disc < T(-0x1p-20f) * (r2 + s2)))) return {T(0), T(0), disc, T(0)};
     T c = s2 - r2;
     // Near the surface c cancels: the plain difference keeps an error
     // ~2u max(|f|^2, r^2), within 8u of |c| unless |c| < max / 4. Lanes that
@@ -264,16 +284,21 @@ inline SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, const T
 // 2^72 — a power of two, so the scaling is exact and t = 2^72 t'. The branch
 // is taken only by packets that need it; a root beyond the float range is +inf
 // and misses.
+// The lanes in `huge` recomputed in units of 2^72 (see sphere_hit).
 template <bool HasRadius, class T, Precision P>
-inline T sphere_hit(const Ray<T, P>& r, const Vec3<T>& center, const T& r2, const T& radius, Mask<T>& hit,
+OCTRAY_COLD SphereRoots<T> sphere_roots_scaled(const Ray<T, P>& r, const Vec3<T>& center, const T& r2, const T& radius,
+                                               const Mask<T>& huge) {
+    const T k = lane::select(huge, T(0x1p-72f), T(1)), unscale = lane::select(huge, T(0x1p72f), T(1));
+    const SphereRoots<T> h = sphere_roots<HasRadius>(r, r.o * k - center * k, r2 * (k * k), radius * k);
+    return {h.t0 * unscale, h.t1 * unscale, h.disc, h.size2};
+}
+
+template <bool HasRadius, class T, Precision P>
+OCTRAY_HOT T sphere_hit(const Ray<T, P>& r, const Vec3<T>& center, const T& r2, const T& radius, Mask<T>& hit,
                     const T& tbest) {
     SphereRoots<T> s = sphere_roots<HasRadius>(r, r.o - center, r2, radius);
     const Mask<T> huge = !(s.size2 <= T(0x1p100f));
-    if (lane::any(huge)) {
-        const T k = lane::select(huge, T(0x1p-72f), T(1)), unscale = lane::select(huge, T(0x1p72f), T(1));
-        const SphereRoots<T> h = sphere_roots<HasRadius>(r, r.o * k - center * k, r2 * (k * k), radius * k);
-        s = {h.t0 * unscale, h.t1 * unscale, h.disc, h.size2};
-    }
+    if (lane::any(huge)) s = sphere_roots_scaled<HasRadius>(r, center, r2, radius, huge);
     const T tnear = lane::min(s.t0, s.t1), tfar = lane::max(s.t0, s.t1);
     const T t = lane::select(tnear > r.tmin, tnear, tfar);
     hit = s.disc >= T(0) && t > r.tmin && t < tbest;
@@ -290,21 +315,15 @@ struct SphereRadius {
 // so a radius such as 1e6 (exact in float; its square is not: float(1e12)
 // moves the surface by 0.002, 0.2% of t from 1 unit above) loses nothing.
 template <class T, Precision P>
-inline T sphere_t(const Ray<T, P>& r, const Vec3<T>& center, const SphereRadius<T>& radius, Mask<T>& hit,
+OCTRAY_HOT T sphere_t(const Ray<T, P>& r, const Vec3<T>& center, const SphereRadius<T>& radius, Mask<T>& hit,
                   const T& tbest) {
     return sphere_hit<true>(r, center, radius.r * radius.r, radius.r, hit, tbest);
-}
-
-// The sphere with r^2 given as one float (its rounding then part of the input).
-template <class T, Precision P>
-inline T sphere_t(const Ray<T, P>& r, const Vec3<T>& center, const T& radius2, Mask<T>& hit, const T& tbest) {
-    return sphere_hit<false>(r, center, radius2, T(0), hit, tbest);
 }
 
 // Plane. Boundary rule: a ray parallel to the plane (d.n == 0), including one
 // lying in it, misses.
 template <class T, Precision P>
-inline T plane_t(const Ray<T, P>& r, const Vec3<T>& point, const Vec3<T>& n, Mask<T>& hit, const T& tbest) {
+OCTRAY_HOT T plane_t(const Ray<T, P>& r, const Vec3<T>& point, const Vec3<T>& n, Mask<T>& hit, const T& tbest) {
     const T den = fdot(r.d, n);
     const T num = fdot(point - r.o, n);
     const Mask<T> facing = den != T(0);
@@ -315,7 +334,7 @@ inline T plane_t(const Ray<T, P>& r, const Vec3<T>& point, const Vec3<T>& n, Mas
 
 // Disk. Boundary rule: the rim |p - c| = r is a hit; parallel rays miss.
 template <class T, Precision P>
-inline T disk_t(const Ray<T, P>& r, const Vec3<T>& center, const Vec3<T>& n, const T& radius2, Mask<T>& hit,
+OCTRAY_HOT T disk_t(const Ray<T, P>& r, const Vec3<T>& center, const Vec3<T>& n, const T& radius2, Mask<T>& hit,
                 const T& tbest) {
     const T t = plane_t(r, center, n, hit, tbest);
     const Vec3<T> q = r.o + r.d * t - center;
@@ -326,7 +345,7 @@ inline T disk_t(const Ray<T, P>& r, const Vec3<T>& center, const Vec3<T>& n, con
 // Rectangle (parallelogram corner + s a + t b). Boundary rule: s, t in the
 // closed [0, 1]: edges and corners are hits; parallel rays miss.
 template <class T, Precision P>
-inline T rectangle_t(const Ray<T, P>& r, const Vec3<T>& corner, const Vec3<T>& n, const Vec3<T>& dual_a,
+OCTRAY_HOT T rectangle_t(const Ray<T, P>& r, const Vec3<T>& corner, const Vec3<T>& n, const Vec3<T>& dual_a,
                      const Vec3<T>& dual_b, Mask<T>& hit, const T& tbest) {
     const T t = plane_t(r, corner, n, hit, tbest);
     const Vec3<T> q = r.o + r.d * t - corner;
@@ -340,7 +359,7 @@ inline T rectangle_t(const Ray<T, P>& r, const Vec3<T>& corner, const Vec3<T>& n
 // that slab's plane is inside the slab (0 * inf = NaN there becomes the whole
 // line). From inside, the exit point is the hit.
 template <class T, Precision P>
-inline T box_t(const Ray<T, P>& r, const Vec3<T>& lo, const Vec3<T>& hi, Mask<T>& hit, const T& tbest) {
+OCTRAY_HOT T box_t(const Ray<T, P>& r, const Vec3<T>& lo, const Vec3<T>& hi, Mask<T>& hit, const T& tbest) {
     auto slab = [&](const T& o, const T& inv, const T& a, const T& b, T& enter, T& leave) {
         const T t1 = (a - o) * inv, t2 = (b - o) * inv;
         const Mask<T> nan = lane::isnan(t1) || lane::isnan(t2);
@@ -382,7 +401,7 @@ inline void triangle_edges(const Ray<T, P>& r, const Vec3<T>& v0, const Vec3<T>&
 // of 2^72 — exact, and only signs count, so an edge shared with an unscaled
 // neighbour keeps its exactly opposite sign (rare branch).
 template <class T, Precision P>
-inline T triangle_t(const Ray<T, P>& r, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, const Vec3<T>& n,
+OCTRAY_HOT T triangle_t(const Ray<T, P>& r, const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& c, const Vec3<T>& n,
                     Mask<T>& hit, const T& tbest) {
     const Vec3<T> v0 = a - r.o;
     T lo, hi;
@@ -426,7 +445,7 @@ inline void for_each_primitive_type(const PacketScene& s, Body&& body) {
 
 // Tests primitive k of type `Type` (parameters broadcast from the scene arrays).
 template <PrimitiveType Type, class T, Precision P>
-inline T test_primitive(const PacketScene& s, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
+OCTRAY_HOT T test_primitive(const PacketScene& s, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
     if constexpr (Type == PrimitiveType::sphere) {
         const SphereArrays& a = s.spheres;
         return sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, tbest);
@@ -517,7 +536,7 @@ inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, 
 template <class T, Precision P, unsigned F>
 inline int intersect_lanes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp, int lane) {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
+    const Ray<T, P> r = load_ray<T, P, F>(rp, lane, masked);
     const Closest<T> best = closest_hit<T, P, F>(s, r);
     const Mask<T> hit = r.valid && best.cid >= T(0);
     const T cid = lane::select(hit, best.cid, T(0));
@@ -562,7 +581,7 @@ template <class T, Precision P, unsigned F>
 void occluded_packet(const PacketScene& s, const RayPacket8& rp, std::int32_t* occluded) noexcept {
     for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) {
         int masked = 0;
-        const Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
+        const Ray<T, P> r = load_ray<T, P, F>(rp, lane, masked);
         store_mask<T>(occluded, lane, any_hit<T, P, F & kAllPrimitives>(s, r));
     }
 }
@@ -585,7 +604,7 @@ inline Ray<T, P> shadow_ray(const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l
     r.tmax = dist;
     r.valid = valid;
     r.invalid = Mask<T>(false);
-    finish_ray(r, fdot(l, l));
+    finish_ray<kAllPrimitives>(r, fdot(l, l));
     return r;
 }
 
