@@ -42,10 +42,20 @@
 // on every lane where the packet path and the reference hit the same
 // primitive, except on the edges of box faces and of shadows: lanes with a
 // 3x3 neighbour on the same object where the reference shows another face of
-// the box or another set of visible lights. There a hit point off by the
-// mode's position error may take the other face or visibility, a legal answer
-// as on a silhouette. The other lanes (hit/miss or primitive
-// differs) lie on silhouettes. kappa is the scene's condition: stiff scenes
+// the box or another set of visible lights, box hits within the mode's
+// position error (end_to_end_bound(mode) * t) of their face's border, and
+// sphere hits whose ray passes that close to the sphere's outline. There a
+// hit point off by the mode's position error may take the other face or
+// visibility, or the ray miss, a legal answer as on a silhouette. The other
+// lanes (hit/miss or primitive differs) lie on silhouettes. The bands are in
+// world units, not pixels: a 3x3 neighbourhood alone shrinks with the pixel,
+// and at 1920x1440 lanes 1e-4 from a box edge (approx: 0.22 S) and sphere
+// lanes at |n.d| = 0.006 (exact: 4.2e-5 S, 1.04x the bound) slipped past it.
+// Not proven: outside the sphere band the normal still carries a grazing
+// factor 1/|n.d| (a ray moved across by e moves the normal by e/(R |n.d|)),
+// which kappa's t/R does not hold; the band keeps |n.d| >= ~sqrt(2 band t/R),
+// and the tests measure the margin (default at 1920x1440, exact: 0.81 of the
+// bound at |n.d| = 0.010). kappa is the scene's condition: stiff scenes
 // (a small sphere far away, a planet seen from close) have a large one, and
 // the float modes' error grows with it; f64 keeps its arithmetic error small
 // but still reads a float scene and float packets.
