@@ -472,17 +472,52 @@ OCTRAY_HOT T test_primitive(const PacketScene& s, int k, const Ray<T, P>& r, Mas
     }
 }
 
+// May a valid lane of the packet hit anything inside the bounding sphere j of
+// `c` before `tbest`? It answers no only when, on every valid lane, the ray's
+// line passes outside the sphere, or the sphere lies behind the origin, or
+// it begins beyond tbest — each by a margin of 2^-18 of the squared scale
+// (t: 2^-10 relative), far above the rounding error of these few operations
+// (~8u). NaN or inf (huge coordinates) answers maybe. Skipping changes no
+// lane's result, so the scalar and SIMD paths still agree bit for bit.
+template <class T, Precision P>
+OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterArrays& c, int j, const T& tbest) {
+    const Vec3<T> f = r.o - broadcast3<T>(c.cx, c.cy, c.cz, j);
+    const T rb = broadcast<T>(c.radius, j);
+    const T rb2 = rb * rb, s2 = fdot(f, f);
+    const T b = fdot(f, r.d);
+    const Vec3<T> perp = f - r.d * (b * r.inv_dd);
+    const Mask<T> line_misses = fdot(perp, perp) - rb2 > T(0x1p-18f) * (s2 + rb2);
+    const Mask<T> behind = b > T(0) && s2 - rb2 > T(0x1p-18f) * (s2 + rb2);
+    const T t_enter = (T(0) - b - rb * r.len_d) * r.inv_dd;  // no point of the sphere is nearer
+    const Mask<T> beyond = t_enter - lane::abs(t_enter) * T(0x1p-10f) > tbest;
+    return lane::any(r.valid && !line_misses && !behind && !beyond);
+}
+
+// Calls test(k) for every primitive k of the type that may hit before `tbest`,
+// a cluster of kClusterSize at a time (planes: all of them).
+template <PrimitiveType Type, class T, Precision P, class Test>
+OCTRAY_HOT void for_each_candidate(const PacketScene& s, int n, const Ray<T, P>& r, const T& tbest, Test&& test) {
+    for (int first = 0; first < n; first += kClusterSize) {
+        if constexpr (Type != PrimitiveType::plane) {
+            if (!cluster_may_hit(r, s.clusters[std::size_t(Type)], first / kClusterSize, tbest)) continue;
+        }
+        const int last = first + kClusterSize < n ? first + kClusterSize : n;
+        for (int k = first; k < last; ++k) test(k);
+    }
+}
+
 template <class T, Precision P, unsigned F>
 inline Closest<T> closest_hit(const PacketScene& s, const Ray<T, P>& r) {
     Closest<T> best{r.tmax, T(-1)};
     for_each_primitive_type<F>(s, [&](auto tag, int n) {
-        const int base = s.offset[int(decltype(tag)::value)];
-        for (int k = 0; k < n; ++k) {
+        constexpr PrimitiveType type = decltype(tag)::value;
+        const int base = s.offset[int(type)];
+        for_each_candidate<type>(s, n, r, best.t, [&](int k) {
             Mask<T> hit;
-            const T t = test_primitive<decltype(tag)::value, T, P>(s, k, r, hit, best.t);
+            const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
             best.t = lane::select(hit, t, best.t);
             best.cid = lane::select(hit, T(float(base + k)), best.cid);
-        }
+        });
     });
     return best;
 }
@@ -568,11 +603,13 @@ template <class T, Precision P, unsigned F>
 inline Mask<T> any_hit(const PacketScene& s, const Ray<T, P>& r) {
     Mask<T> blocked = !r.valid;  // nothing to test on masked lanes
     for_each_primitive_type<F>(s, [&](auto tag, int n) {
-        for (int k = 0; k < n && !lane::all(blocked); ++k) {
+        constexpr PrimitiveType type = decltype(tag)::value;
+        if (lane::all(blocked)) return;
+        for_each_candidate<type>(s, n, r, r.tmax, [&](int k) {
             Mask<T> hit;
-            test_primitive<decltype(tag)::value, T, P>(s, k, r, hit, r.tmax);
+            test_primitive<type, T, P>(s, k, r, hit, r.tmax);
             blocked = blocked || hit;
-        }
+        });
     });
     return blocked && r.valid;
 }

@@ -1,7 +1,10 @@
 // kernels/packet_scene.cpp — Scene (AoS, double) -> PacketScene (SoA, float).
 #include <octray/packet_scene.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 #include <type_traits>
 
@@ -24,6 +27,57 @@ void pad(A&... arrays) {
         while (a.size() % 8 != 0) a.push_back(fill);
     };
     (one(arrays), ...);
+}
+
+// A sphere that contains the primitive (none for the unbounded plane).
+struct Bound {
+    Vec3d center;
+    double radius = 0;
+};
+std::optional<Bound> bound_of(const Shape& shape) {
+    return std::visit(
+        [](const auto& p) -> std::optional<Bound> {
+            using P = std::decay_t<decltype(p)>;
+            if constexpr (std::is_same_v<P, Sphere>) {
+                return Bound{p.center, p.radius};
+            } else if constexpr (std::is_same_v<P, Plane>) {
+                return std::nullopt;
+            } else if constexpr (std::is_same_v<P, Disk>) {
+                return Bound{p.center, p.radius};
+            } else if constexpr (std::is_same_v<P, Rectangle>) {
+                const Vec3d c = p.corner + (p.a + p.b) * 0.5;
+                const double r = std::max(std::sqrt(length_squared((p.a + p.b) * 0.5)), std::sqrt(length_squared((p.a - p.b) * 0.5)));
+                return Bound{c, r};
+            } else if constexpr (std::is_same_v<P, Box>) {
+                return Bound{(p.min + p.max) * 0.5, std::sqrt(length_squared((p.max - p.min) * 0.5))};
+            } else {
+                const Vec3d c = (p.v0 + p.v1 + p.v2) * (1.0 / 3.0);
+                const double r = std::max({std::sqrt(length_squared(p.v0 - c)), std::sqrt(length_squared(p.v1 - c)),
+                                           std::sqrt(length_squared(p.v2 - c))});
+                return Bound{c, r};
+            }
+        },
+        shape);
+}
+
+// One bounding sphere per kClusterSize consecutive members: centred on the
+// members' bounding box, radius rounded up to a float that contains them all.
+void build_clusters(const std::vector<Bound>& members, ClusterArrays& out) {
+    for (std::size_t first = 0; first < members.size(); first += kClusterSize) {
+        const std::size_t last = std::min(members.size(), first + kClusterSize);
+        Vec3d lo = members[first].center, hi = lo;
+        for (std::size_t i = first; i < last; ++i) {
+            const Bound& b = members[i];
+            lo = {std::min(lo.x, b.center.x - b.radius), std::min(lo.y, b.center.y - b.radius), std::min(lo.z, b.center.z - b.radius)};
+            hi = {std::max(hi.x, b.center.x + b.radius), std::max(hi.y, b.center.y + b.radius), std::max(hi.z, b.center.z + b.radius)};
+        }
+        const Vec3f c{float((lo.x + hi.x) / 2), float((lo.y + hi.y) / 2), float((lo.z + hi.z) / 2)};
+        double r = 0;
+        for (std::size_t i = first; i < last; ++i)
+            r = std::max(r, std::sqrt(length_squared(members[i].center - Vec3d(c))) + members[i].radius);
+        out.cx.push_back(c.x), out.cy.push_back(c.y), out.cz.push_back(c.z);
+        out.radius.push_back(std::nextafter(float(r * (1 + 1e-6)), std::numeric_limits<float>::infinity()));
+    }
 }
 
 }  // namespace
@@ -73,11 +127,13 @@ PacketScene compile(const Scene& scene) {
     s.object_of.resize(scene.objects.size());
     s.material_of.resize(scene.objects.size());
     std::array<int, kPrimitiveTypeCount> next = s.offset;
+    std::array<std::vector<Bound>, kPrimitiveTypeCount> bounds;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         const Object& o = scene.objects[i];
         const int cid = next[std::size_t(primitive_type(o.shape))]++;
         s.object_of[std::size_t(cid)] = float(i);
         s.material_of[std::size_t(cid)] = float(o.material);
+        if (const auto b = bound_of(o.shape)) bounds[std::size_t(primitive_type(o.shape))].push_back(*b);
         std::visit(
             [&](const auto& p) {
                 using P = std::decay_t<decltype(p)>;
@@ -119,6 +175,7 @@ PacketScene compile(const Scene& scene) {
             },
             o.shape);
     }
+    for (int t = 0; t < kPrimitiveTypeCount; ++t) build_clusters(bounds[std::size_t(t)], s.clusters[std::size_t(t)]);
     // The per-type arrays were filled in object order; compiled ids are type-major,
     // which is the same order within each type.
     pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.radius2, s.spheres.inv_radius, s.spheres.radius);

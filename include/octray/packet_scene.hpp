@@ -61,10 +61,18 @@ struct PacketCamera {
     int width = 0, height = 0;
 };
 
+// Bounding spheres of consecutive groups of kClusterSize primitives of one
+// type (in scene order), so a packet can skip a group that none of its rays
+// comes near. Radii are rounded up: every member lies inside.
+inline constexpr int kClusterSize = 8;
+struct ClusterArrays { Floats cx, cy, cz, radius; };
+
 struct PacketScene {
     Features features;
     std::array<int, kPrimitiveTypeCount> count{};   // primitives per type
     std::array<int, kPrimitiveTypeCount> offset{};  // first compiled id per type
+    // Per type, one bounding sphere per kClusterSize primitives; planes have none.
+    std::array<ClusterArrays, kPrimitiveTypeCount> clusters;
     SphereArrays spheres;
     PlaneArrays planes;
     DiskArrays disks;
