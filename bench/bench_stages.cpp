@@ -5,6 +5,7 @@
 // the ratio of two rows of one run:
 //   camera/{pinhole,orthographic}/PATH           128x128 image per iteration
 //   intersect/TYPE:N/PATH                        one type, N = 1, 16, 256
+//   intersect/sphere:256_all_tests/PATH          256 spheres, cluster culling off
 //   intersect/mixed:N/PATH                       six types cycled, N = 1..256
 //   shade/LIGHTS/PATH                            per light type, 1..64 lights
 //   shade/default/PATH                           scenes/default.json's lights and hits
@@ -20,6 +21,7 @@
 
 #include <scene_loader.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -103,6 +105,20 @@ void bm_intersect(benchmark::State& st, Layout layout, int n, Path path) {
     const Fixture& f = cached(key, [&](Fixture& fx) { prepare(fx, grid_scene(layout, n, false, kImage, kImage)); });
     if (!check(st, f)) return;
     time_intersect(st, select_kernel(f.scene, path), f.scene, f.rays);
+    st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
+}
+
+// The same with cluster culling switched off (every bounding sphere made
+// infinite, so every packet tests every primitive): the kernel's raw test
+// throughput, which the FLOP count per ray describes exactly. With culling on,
+// most tests are skipped and GFLOP/s would count work not done.
+void bm_intersect_all_tests(benchmark::State& st, Layout layout, int n, Path path) {
+    const std::string key = std::string("intersect/") + layout_name(layout) + ":" + std::to_string(n);
+    const Fixture& f = cached(key, [&](Fixture& fx) { prepare(fx, grid_scene(layout, n, false, kImage, kImage)); });
+    if (!check(st, f)) return;
+    PacketScene all = f.scene;
+    for (ClusterArrays& c : all.clusters) std::fill(c.radius.begin(), c.radius.end(), INFINITY);
+    time_intersect(st, select_kernel(all, path), all, f.rays);
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }
 
@@ -263,6 +279,9 @@ void register_all() {
             for (Path p : kPaths)
                 benchmark::RegisterBenchmark((std::string("intersect/") + layout_name(l) + ":" + std::to_string(n) + path_suffix(p)).c_str(),
                                              [l, n, p](benchmark::State& st) { bm_intersect(st, l, n, p); });
+ for (Path p : kPaths)
+        benchmark::RegisterBenchmark(("intersect/sphere:256_all_tests" + path_suffix(p)).c_str(),
+                                     [p](benchmark::State& st) { bm_intersect_all_tests(st, Layout::sphere, 256, p); });
     for (int n : {1, 4, 16, 64, 256})
         for (Path p : kPaths)
             benchmark::RegisterBenchmark(("intersect/mixed:" + std::to_string(n) + path_suffix(p)).c_str(),

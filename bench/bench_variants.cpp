@@ -4,7 +4,8 @@
 //   dispatched  select_kernel(): the variant specialized to the scene's features;
 //   hand        a kernel written here by hand for exactly that subset: explicit
 //               loops over the present primitive and light types, nothing else,
-//               from the same building blocks (sphere_t, plane_t, ...);
+//               from the same building blocks (sphere_t, plane_t, ...,
+//               for_each_candidate's cluster culling);
 //   general     general_kernel(): every feature compiled in, absent ones skipped
 //               at run time (zero-trip loops, ambient of zero, ...).
 // Target: dispatched within 2% of hand. The hand kernels keep the two-stage
@@ -55,12 +56,12 @@ int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp
     const Ray<T, P> r = load_ray<T, P, kSphere>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     T best = r.tmax, cid(-1);
-    for (int k = 0; k < s.count[0]; ++k) {
+    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best, [&](int k) {
         M hit;
         const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best);
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
-    }
+    });
     const T k = lane::select(cid >= T(0), cid, T(0));
     const Vec3<T> p = r.o + r.d * best;
     store_hit(s, r, best, cid, (p - gather3(a.cx, a.cy, a.cz, k)) * lane::gather(a.inv_radius.data(), k), hp);
@@ -73,12 +74,12 @@ int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
     const Ray<T, P> r = load_ray<T, P, kPlane>(rp, 0, masked);
     const PlaneArrays& a = s.planes;
     T best = r.tmax, cid(-1);
-    for (int k = 0; k < s.count[1]; ++k) {
+    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best, [&](int k) {
         M hit;
         const T t = plane_t(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best);
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
-    }
+    });
     const T k = lane::select(cid >= T(0), cid, T(0));
     store_hit(s, r, best, cid, gather3(a.nx, a.ny, a.nz, k), hp);
     return masked;
@@ -91,18 +92,18 @@ int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPack
     const SphereArrays& a = s.spheres;
     const PlaneArrays& b = s.planes;
     T best = r.tmax, cid(-1);
-    for (int k = 0; k < s.count[0]; ++k) {
+    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best, [&](int k) {
         M hit;
         const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best);
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
-    }
-    for (int k = 0; k < s.count[1]; ++k) {
+    });
+    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best, [&](int k) {
         M hit;
         const T t = plane_t(r, broadcast3<T>(b.px, b.py, b.pz, k), broadcast3<T>(b.nx, b.ny, b.nz, k), hit, best);
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(s.offset[1] + k)), cid);
-    }
+    });
     const M is_sphere = cid >= T(0) && cid < T(float(s.count[0]));
     const T ks = lane::select(is_sphere, cid, T(0));
     const T kp = lane::select(cid >= T(float(s.offset[1])), cid - T(float(s.offset[1])), T(0));
@@ -121,13 +122,13 @@ int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& 
     const Ray<T, P> r = load_ray<T, P, kTriangle>(rp, 0, masked);
     const TriangleArrays& a = s.triangles;
     T best = r.tmax, cid(-1);
-    for (int k = 0; k < s.count[5]; ++k) {
+    for_each_candidate<PrimitiveType::triangle>(s, s.count[5], r, best, [&](int k) {
         M hit;
         const T t = triangle_t(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
                                broadcast3<T>(a.x2, a.y2, a.z2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best);
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
-    }
+    });
     const T k = lane::select(cid >= T(0), cid, T(0));
     store_hit(s, r, best, cid, gather3(a.nx, a.ny, a.nz, k), hp);
     return masked;
@@ -139,12 +140,12 @@ int intersect_boxes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) 
     const Ray<T, P> r = load_ray<T, P, kBox>(rp, 0, masked);
     const BoxArrays& a = s.boxes;
     T best = r.tmax, cid(-1);
-    for (int k = 0; k < s.count[4]; ++k) {
+    for_each_candidate<PrimitiveType::box>(s, s.count[4], r, best, [&](int k) {
         M hit;
         const T t = box_t(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit, best);
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
-    }
+    });
     const T k = lane::select(cid >= T(0), cid, T(0));
     const Vec3<T> lo = gather3(a.minx, a.miny, a.minz, k), hi = gather3(a.maxx, a.maxy, a.maxz, k);
     const Vec3<T> q = r.o + r.d * best - (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
