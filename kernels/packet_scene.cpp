@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -80,6 +81,49 @@ void build_clusters(const std::vector<Bound>& members, ClusterArrays& out) {
     }
 }
 
+// 30-bit Morton code of a point in [0,1]^3 (10 bits per axis, interleaved).
+std::uint32_t morton(double x, double y, double z) {
+    auto spread = [](double v) {
+        std::uint32_t b = std::uint32_t(std::clamp(v, 0.0, 1.0) * 1023.0);
+        b = (b | (b << 16)) & 0x030000FFu;
+        b = (b | (b << 8)) & 0x0300F00Fu;
+        b = (b | (b << 4)) & 0x030C30C3u;
+        return (b | (b << 2)) & 0x09249249u;
+    };
+    return (spread(x) << 2) | (spread(y) << 1) | spread(z);
+}
+
+// Object indices in the order compile() lays primitives out: within each type,
+// bounded primitives sorted along a Morton curve of their bounding-sphere
+// centres (stable, so equal codes keep scene order), which makes each cluster
+// of kClusterSize spatially compact; planes keep scene order.
+std::vector<std::size_t> spatial_order(const Scene& scene) {
+    std::vector<std::size_t> order(scene.objects.size());
+    std::vector<std::optional<Bound>> b(scene.objects.size());
+    Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        order[i] = i;
+        b[i] = bound_of(scene.objects[i].shape);
+        if (!b[i]) continue;
+        const Vec3d& c = b[i]->center;
+        lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+        hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+    }
+    const Vec3d extent = hi - lo;
+    const double scale = 1.0 / std::max({extent.x, extent.y, extent.z, 1e-300});
+    std::vector<std::uint32_t> code(order.size(), 0);
+    for (std::size_t i = 0; i < order.size(); ++i)
+        if (b[i]) {
+            const Vec3d q = (b[i]->center - lo) * scale;
+            code[i] = morton(q.x, q.y, q.z);
+        }
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t c) {
+        const auto ta = scene.objects[a].shape.index(), tc = scene.objects[c].shape.index();
+        return ta != tc ? ta < tc : code[a] < code[c];
+    });
+    return order;
+}
+
 }  // namespace
 
 Features features_of(const Scene& scene) {
@@ -128,7 +172,7 @@ PacketScene compile(const Scene& scene) {
     s.material_of.resize(scene.objects.size());
     std::array<int, kPrimitiveTypeCount> next = s.offset;
     std::array<std::vector<Bound>, kPrimitiveTypeCount> bounds;
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    for (const std::size_t i : spatial_order(scene)) {
         const Object& o = scene.objects[i];
         const int cid = next[std::size_t(primitive_type(o.shape))]++;
         s.object_of[std::size_t(cid)] = float(i);
@@ -176,8 +220,7 @@ PacketScene compile(const Scene& scene) {
             o.shape);
     }
     for (int t = 0; t < kPrimitiveTypeCount; ++t) build_clusters(bounds[std::size_t(t)], s.clusters[std::size_t(t)]);
-    // The per-type arrays were filled in object order; compiled ids are type-major,
-    // which is the same order within each type.
+    // The per-type arrays were filled in spatial_order, which is type-major like the compiled ids.
     pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.radius2, s.spheres.inv_radius, s.spheres.radius);
     pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
     pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);

@@ -3,9 +3,13 @@
 // Structure of arrays per primitive type and per light type, in float, each
 // array padded to a multiple of the packet width and 64-byte aligned. Only the
 // types a scene has are filled. Primitives are renumbered type by type
-// ("compiled id" = offset[type] + index within type); `object_of` maps a
-// compiled id back to its Scene::objects index. A PacketScene is immutable
-// after compile(): share one across threads freely.
+// ("compiled id" = offset[type] + index within type), and within a type along
+// a Morton curve of their bounding spheres (planes: scene order), so clusters
+// are compact; `object_of` maps a compiled id back to its Scene::objects index.
+// Two primitives hit at exactly the same t (coincident faces, a ray through a
+// shared mesh edge) resolve to the one earlier in compiled order, which need
+// not be the lower object index the reference keeps.
+// A PacketScene is immutable after compile(): share one across threads freely.
 #pragma once
 
 #include <octray/features.hpp>
@@ -62,7 +66,7 @@ struct PacketCamera {
 };
 
 // Bounding spheres of consecutive groups of kClusterSize primitives of one
-// type (in scene order), so a packet can skip a group that none of its rays
+// type (in compiled, i.e. Morton, order), so a packet can skip a group that none of its rays
 // comes near. Radii are rounded up: every member lies inside.
 inline constexpr int kClusterSize = 8;
 struct ClusterArrays { Floats cx, cy, cz, radius; };
