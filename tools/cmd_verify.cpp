@@ -34,6 +34,9 @@ int run_verify(const VerifyArgs& args) {
                     kernel.isa, (unsigned long long)a.compared, a.max_rel, a.mean_rel, a.p99_rel, a.max_scaled,
                     (unsigned long long)a.max_ulp, (unsigned long long)a.mismatched,
                     (unsigned long long)a.mismatched_silhouette, pass ? "ok" : "OVER TOLERANCE");
+        if (a.shadow_edges)
+            std::printf("        %llu lanes on shadow boundaries, left out of the error columns\n",
+                        (unsigned long long)a.shadow_edges);
         if (a.nonfinite) std::printf("        %llu non-finite radiance values\n", (unsigned long long)a.nonfinite);
     }
     return ok ? kExitOk : kExitFailed;

@@ -38,6 +38,27 @@ std::int64_t ordered_bits(float f) {
     return i < 0 ? std::int64_t(std::numeric_limits<std::int32_t>::min()) - i : i;
 }
 
+// Which shadow-casting lights are blocked at a hit, by the reference's rule
+// (shadow ray from p lifted 1e-9 (1 + |p|) along the facing normal).
+std::uint64_t blocked_lights(const Scene& scene, const reference::Hit& hit) {
+    if (hit.object < 0) return 0;
+    const Vec3d o = hit.point + hit.normal * (1e-9 * (1.0 + std::sqrt(length_squared(hit.point))));
+    std::uint64_t bits = 0;
+    unsigned j = 0;
+    auto blocked = [&](const Vec3d& dir, double tmax) { return reference::trace(scene, {o, dir}, 0.0, tmax).object >= 0; };
+    for (const DirectionalLight& l : scene.directional_lights) {
+        if (j < 64 && l.shadows && dot(l.direction, hit.normal) > 0 && blocked(l.direction, 1e300)) bits |= std::uint64_t(1) << j;
+        ++j;
+    }
+    for (const PointLight& l : scene.point_lights) {
+        const Vec3d v = l.position - o;
+        const double r = std::sqrt(length_squared(v));
+        if (j < 64 && l.shadows && r > 0 && dot(v, hit.normal) > 0 && blocked(v * (1 / r), r)) bits |= std::uint64_t(1) << j;
+        ++j;
+    }
+    return bits;
+}
+
 }  // namespace
 
 std::uint64_t ulp_distance(float a, float b) {
@@ -52,6 +73,7 @@ ReferenceRender render_reference(const Scene& scene) {
     r.radiance = Image<double>(c.width, c.height);
     r.scale = Image<double>(c.width, c.height);
     r.primitive.assign(std::size_t(c.width) * std::size_t(c.height), -1);
+    r.shadowed.assign(r.primitive.size(), 0);
     for (int j = 0; j < c.height; ++j) {
         for (int i = 0; i < c.width; ++i) {
             const reference::Ray ray = reference::camera_ray(c, i, j);
@@ -63,6 +85,7 @@ ReferenceRender render_reference(const Scene& scene) {
             px[0] = l.x, px[1] = l.y, px[2] = l.z;
             sx[0] = s.x, sx[1] = s.y, sx[2] = s.z;
             r.primitive[std::size_t(j) * std::size_t(c.width) + std::size_t(i)] = hit.object;
+            r.shadowed[std::size_t(j) * std::size_t(c.width) + std::size_t(i)] = blocked_lights(scene, hit);
         }
     }
     return r;
@@ -96,6 +119,7 @@ Agreement compare(const ReferenceRender& ref, const Image<float>& radiance, cons
     std::vector<double> rels;
     rels.reserve(std::size_t(w) * std::size_t(h) * 3);
     auto id = [&](int i, int j) { return ref.primitive[std::size_t(j) * std::size_t(w) + std::size_t(i)]; };
+    auto shadowed = [&](int i, int j) { return ref.shadowed[std::size_t(j) * std::size_t(w) + std::size_t(i)]; };
     for (int j = 0; j < h; ++j) {
         for (int i = 0; i < w; ++i) {
             ++a.lanes;
@@ -109,6 +133,16 @@ Agreement compare(const ReferenceRender& ref, const Image<float>& radiance, cons
                         if (x >= 0 && y >= 0 && x < w && y < h && id(x, y) != id(i, j)) edge = true;
                     }
                 if (edge) ++a.mismatched_silhouette;
+                continue;
+            }
+            bool shadow_edge = false;
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di) {
+                    const int x = i + di, y = j + dj;
+                    if (x >= 0 && y >= 0 && x < w && y < h && shadowed(x, y) != shadowed(i, j)) shadow_edge = true;
+                }
+            if (shadow_edge) {
+                ++a.shadow_edges;
                 continue;
             }
             ++a.compared;

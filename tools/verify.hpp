@@ -15,6 +15,9 @@ struct ReferenceRender {
     Image<double> radiance;
     std::vector<std::int32_t> primitive;  // Scene::objects index per pixel, -1 = miss
     Image<double> scale;  // per channel: the pixel's radiance with every light at n.l = 1
+    // Per pixel, bit j set when shadow-casting light j (directional lights, then
+    // point lights; the first 64) is blocked at the pixel's hit point.
+    std::vector<std::uint64_t> shadowed;
 };
 ReferenceRender render_reference(const Scene& scene);
 
@@ -48,6 +51,11 @@ struct Agreement {
     std::uint64_t max_ulp = 0;           // float ULPs between L and float(L_ref)
     std::uint64_t mismatched = 0;        // hit/miss or different primitive
     std::uint64_t mismatched_silhouette = 0;  // of those, on an id edge of the reference image
+    // Lanes whose 3x3 neighbourhood in the reference sees a light blocked on one
+    // side and not the other: a shadow boundary, where the kernels' shadow-ray
+    // offset may legally decide the other way. Like silhouettes, they are
+    // counted and left out of the error columns.
+    std::uint64_t shadow_edges = 0;
     std::uint64_t nonfinite = 0;         // NaN/inf radiance where the reference is finite
 
     bool within(const Tolerance& tol) const;
