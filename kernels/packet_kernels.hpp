@@ -230,8 +230,8 @@ struct SphereRoots {
     T size2;    // max(|f|^2, r^2), to detect overflow
 };
 
-// r^2 = r2 + r2_lo exactly; `radius` (when HasRadius) gives r2_lo = fma(r, r, -r2).
-template <bool HasRadius, class T, Precision P>
+// r^2 = r2 + r2_lo exactly, r2 = fl(radius^2) and r2_lo = fma(radius, radius, -r2).
+template <class T, Precision P>
 OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, const T& r2, const T& radius) {
     const T b = fdot(f, r.d);                       // half of the textbook b
     const T b_a = b * r.inv_dd;
@@ -262,8 +262,7 @@ OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, con
     const T size2 = lane::max(s2, r2);
     const Mask<T> cancels = lane::abs(c) < T(0.25f) * size2;
     if (lane::any(cancels)) {
-        T r2_lo(0);
-        if constexpr (HasRadius) r2_lo = lane::fma(radius, radius, T(0) - r2);
+        const T r2_lo = lane::fma(radius, radius, T(0) - r2);
         c = lane::select(cancels, norm2_compensated(f, r2, r2_lo), c);
         const T b2_a = b * b_a;
         disc = lane::select(cancels && b2_a + lane::abs(c) < T(0.5f) * s2, b2_a - c, disc);
@@ -275,7 +274,16 @@ OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, con
     return {q * r.inv_dd, lane::div<P>(c, q), disc, size2};
 }
 
-// Sphere of r^2 = r2 (+ the exact remainder of radius^2 when HasRadius).
+// The lanes in `huge` recomputed in units of 2^72 (see sphere_hit).
+template <class T, Precision P>
+OCTRAY_COLD SphereRoots<T> sphere_roots_scaled(const Ray<T, P>& r, const Vec3<T>& center, const T& r2, const T& radius,
+                                               const Mask<T>& huge) {
+    const T k = lane::select(huge, T(0x1p-72f), T(1)), unscale = lane::select(huge, T(0x1p72f), T(1));
+    const SphereRoots<T> h = sphere_roots(r, r.o * k - center * k, r2 * (k * k), radius * k);
+    return {h.t0 * unscale, h.t1 * unscale, h.disc, h.size2};
+}
+
+// Sphere of the given radius (r^2 = r2 exactly split, see sphere_roots).
 // Boundary rule: a tangent ray (discriminant exactly 0) hits. From inside, the
 // far root is the hit. Neither the discriminant nor c = |f|^2 - r^2 cancels
 // catastrophically (sphere_roots).
@@ -284,21 +292,12 @@ OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, con
 // 2^72 — a power of two, so the scaling is exact and t = 2^72 t'. The branch
 // is taken only by packets that need it; a root beyond the float range is +inf
 // and misses.
-// The lanes in `huge` recomputed in units of 2^72 (see sphere_hit).
-template <bool HasRadius, class T, Precision P>
-OCTRAY_COLD SphereRoots<T> sphere_roots_scaled(const Ray<T, P>& r, const Vec3<T>& center, const T& r2, const T& radius,
-                                               const Mask<T>& huge) {
-    const T k = lane::select(huge, T(0x1p-72f), T(1)), unscale = lane::select(huge, T(0x1p72f), T(1));
-    const SphereRoots<T> h = sphere_roots<HasRadius>(r, r.o * k - center * k, r2 * (k * k), radius * k);
-    return {h.t0 * unscale, h.t1 * unscale, h.disc, h.size2};
-}
-
-template <bool HasRadius, class T, Precision P>
-OCTRAY_HOT T sphere_hit(const Ray<T, P>& r, const Vec3<T>& center, const T& r2, const T& radius, Mask<T>& hit,
-                    const T& tbest) {
-    SphereRoots<T> s = sphere_roots<HasRadius>(r, r.o - center, r2, radius);
+template <class T, Precision P>
+OCTRAY_HOT T sphere_hit(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, Mask<T>& hit, const T& tbest) {
+    const T r2 = radius * radius;
+    SphereRoots<T> s = sphere_roots(r, r.o - center, r2, radius);
     const Mask<T> huge = !(s.size2 <= T(0x1p100f));
-    if (lane::any(huge)) s = sphere_roots_scaled<HasRadius>(r, center, r2, radius, huge);
+    if (lane::any(huge)) s = sphere_roots_scaled(r, center, r2, radius, huge);
     const T tnear = lane::min(s.t0, s.t1), tfar = lane::max(s.t0, s.t1);
     const T t = lane::select(tnear > r.tmin, tnear, tfar);
     hit = s.disc >= T(0) && t > r.tmin && t < tbest;
@@ -317,7 +316,7 @@ struct SphereRadius {
 template <class T, Precision P>
 OCTRAY_HOT T sphere_t(const Ray<T, P>& r, const Vec3<T>& center, const SphereRadius<T>& radius, Mask<T>& hit,
                   const T& tbest) {
-    return sphere_hit<true>(r, center, radius.r * radius.r, radius.r, hit, tbest);
+    return sphere_hit(r, center, radius.r, hit, tbest);
 }
 
 // Plane. Boundary rule: a ray parallel to the plane (d.n == 0), including one
