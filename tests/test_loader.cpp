@@ -5,6 +5,8 @@
 
 #include <doctest/doctest.h>
 
+#include "scene_files.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -85,10 +87,9 @@ bool near(const octray::Vec3d& a, const octray::Vec3d& b, double tol = 1e-15) {
 
 TEST_CASE("every scene in scenes/ loads") {
     int count = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(OCTRAY_SOURCE_DIR "/scenes")) {
-        if (entry.path().extension() != ".json") continue;
-        INFO(entry.path().string());
-        CHECK_NOTHROW(octray::load_scene(entry.path().string()));
+    for (const std::string& file : scene_files()) {
+        INFO(file);
+        CHECK_NOTHROW(octray::load_scene(file));
         ++count;
     }
     CHECK(count >= 16);

@@ -1,6 +1,8 @@
 // Packet path (scalar and SIMD instantiations) against the double reference.
 #include <doctest/doctest.h>
 
+#include "scene_files.hpp"
+
 #include "scene_loader.hpp"
 #include "verify.hpp"
 
@@ -17,14 +19,6 @@
 using namespace octray;
 
 namespace {
-
-std::vector<std::string> scene_files() {
-    std::vector<std::string> files;
-    for (const auto& e : std::filesystem::directory_iterator(std::string(OCTRAY_SOURCE_DIR) + "/scenes"))
-        if (e.path().extension() == ".json") files.push_back(e.path().string());
-    std::sort(files.begin(), files.end());
-    return files;
-}
 
 // The volatile keeps GCC 12 -O3 from vectorising away the (double)(float)
 // round trip (seen in the stability suite); the reference must see floats.

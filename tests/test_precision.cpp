@@ -4,6 +4,8 @@
 // end (scene renders against the double reference).
 #include <doctest/doctest.h>
 
+#include "scene_files.hpp"
+
 #include "../kernels/isa_kernels.hpp"
 #include "errtime.hpp"
 #include "scene_loader.hpp"
@@ -74,16 +76,6 @@ double worst_relative(const std::vector<float>& out, Exact&& exact) {
         worst = std::max(worst, std::fabs(double(out[i]) - e) / std::fabs(e));
     }
     return worst;
-}
-
-std::vector<std::string> scene_files() {
-    std::vector<std::string> files;
-    const std::string dir = std::string(OCTRAY_SOURCE_DIR) + "/scenes";
-    if (std::filesystem::is_directory(dir))
-        for (const auto& e : std::filesystem::directory_iterator(dir))
-            if (e.path().extension() == ".json") files.push_back(e.path().string());
-    std::sort(files.begin(), files.end());
-    return files;
 }
 
 // The reference's camera rays and hits, and the lanes on an edge of a box

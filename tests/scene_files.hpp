@@ -1,0 +1,17 @@
+// tests/scene_files.hpp — the JSON scenes of scenes/, sorted, for the suites that run every one.
+#pragma once
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+inline std::vector<std::string> scene_files() {
+    std::vector<std::string> files;
+    const std::string dir = std::string(OCTRAY_SOURCE_DIR) + "/scenes";
+    if (std::filesystem::is_directory(dir))
+        for (const auto& e : std::filesystem::directory_iterator(dir))
+            if (e.path().extension() == ".json") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    return files;
+}
