@@ -150,7 +150,7 @@ int intersect_boxes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) 
     const Vec3<T> lo = gather3(a.minx, a.miny, a.minz, k), hi = gather3(a.maxx, a.maxy, a.maxz, k);
     const Vec3<T> q = r.o + r.d * best - (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
     const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
-    const M ax = rx >= ry && rx >= rz, ay = !ax && ry >= rz, az = !ax && !ay;
+    const M ax = rx >= ry && rx >= rz, ay = lane::not_(ax) && ry >= rz, az = lane::not_(ax || ay);
     store_hit(s, r, best, cid,
               {lane::select(ax, lane::copysign(T(1), q.x), T(0)), lane::select(ay, lane::copysign(T(1), q.y), T(0)),
                lane::select(az, lane::copysign(T(1), q.z), T(0))},

@@ -153,7 +153,7 @@ inline void finish_ray(Ray<T, P>& r, const T& dd) {
     // proj_a = e_kx - (d_kx / d_kz) e_kz, proj_b = e_ky - (d_ky / d_kz) e_kz,
     // both orthogonal to d; |d_kz| >= |d| / sqrt(3), so the ratios are <= 1.
     const T ax = lane::abs(r.d.x), ay = lane::abs(r.d.y), az = lane::abs(r.d.z);
-    const Mask<T> zx = ax >= ay && ax >= az, zy = !zx && ay >= az;
+    const Mask<T> zx = ax >= ay && ax >= az, zy = lane::not_(zx) && ay >= az;
     const T inv_dz = T(1) / lane::select(zx, r.d.x, lane::select(zy, r.d.y, r.d.z));
     // kz = x: (kx, ky) = (y, z); kz = y: (z, x); kz = z: (x, y).
     const T sx = lane::select(zx, r.d.y, lane::select(zy, r.d.z, r.d.x)) * inv_dz;
@@ -182,9 +182,9 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     // dd must be a normal float with a normal reciprocal: a zero or subnormal
     // length has no usable reciprocal; a huge one (|d| >= 2^63) none either.
     const Mask<T> usable_d = dd >= T(kMinDirection2) && dd < T(kMaxDirection2);
-    const Mask<T> interval = r.tmin < r.tmax && !lane::isnan(r.tmin) && !lane::isnan(r.tmax);
+    const Mask<T> interval = r.tmin < r.tmax && lane::not_(lane::isnan(r.tmin)) && lane::not_(lane::isnan(r.tmax));
     r.valid = active && finite && usable_d && interval;
-    r.invalid = active && !r.valid;
+    r.invalid = active && lane::not_(r.valid);
     masked += lane::count(r.invalid);
     // Replace what was masked off by a ray that hits nothing it could poison.
     r.o = {lane::select(r.valid, r.o.x, T(0)), lane::select(r.valid, r.o.y, T(0)), lane::select(r.valid, r.o.z, T(0))};
@@ -247,7 +247,7 @@ OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, con
     // packets miss most spheres, and the sqrt and division below are the
     // slow part. NaN or inf (huge coordinates) never takes this exit, and a
     // lane's answer is the same either way.
-    if (!lane::any(!(disc < T(-0x1p-20f) * (r2 + s2)))) return {T(0), T(0), disc, T(0)};
+    if (lane::all(disc < T(-0x1p-20f) * (r2 + s2))) return {T(0), T(0), disc, T(0)};
     T c = s2 - r2;
     // Near the surface c cancels: the plain difference keeps an error
     // ~2u max(|f|^2, r^2), within 8u of |c| unless |c| < max / 4. Lanes that
@@ -296,7 +296,7 @@ template <class T, Precision P>
 OCTRAY_HOT T sphere_hit(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, Mask<T>& hit, const T& tbest) {
     const T r2 = radius * radius;
     SphereRoots<T> s = sphere_roots(r, r.o - center, r2, radius);
-    const Mask<T> huge = !(s.size2 <= T(0x1p100f));
+    const Mask<T> huge = lane::not_(s.size2 <= T(0x1p100f));
     if (lane::any(huge)) s = sphere_roots_scaled(r, center, r2, radius, huge);
     const T tnear = lane::min(s.t0, s.t1), tfar = lane::max(s.t0, s.t1);
     const T t = lane::select(tnear > r.tmin, tnear, tfar);
@@ -405,7 +405,7 @@ OCTRAY_HOT T triangle_t(const Ray<T, P>& r, const Vec3<T>& a, const Vec3<T>& b, 
     const Vec3<T> v0 = a - r.o;
     T lo, hi;
     triangle_edges(r, v0, b - r.o, c - r.o, lo, hi);
-    const Mask<T> huge = !lane::isfinite(lo + hi);
+    const Mask<T> huge = lane::not_(lane::isfinite(lo + hi));
     if (lane::any(huge)) {
         const T k = lane::select(huge, T(0x1p-72f), T(1));
         const Vec3<T> ok = r.o * k;
@@ -489,7 +489,7 @@ OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterArrays& c, int 
     const Mask<T> behind = b > T(0) && s2 - rb2 > T(0x1p-18f) * (s2 + rb2);
     const T t_enter = (T(0) - b - rb * r.len_d) * r.inv_dd;  // no point of the sphere is nearer
     const Mask<T> beyond = t_enter - lane::abs(t_enter) * T(0x1p-10f) > tbest;
-    return lane::any(r.valid && !line_misses && !behind && !beyond);
+    return lane::any(r.valid && lane::not_(line_misses || behind || beyond));
 }
 
 // Calls test(k) for every primitive k of the type that may hit before `tbest`,
@@ -556,7 +556,7 @@ inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, 
             const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
             const T dx = lane::abs(d.x), dy = lane::abs(d.y), dz = lane::abs(d.z);
             const Mask<T> ax = (rx > ry || (rx == ry && dx >= dy)) && (rx > rz || (rx == rz && dx >= dz));
-            const Mask<T> ay = !ax && (ry > rz || (ry == rz && dy >= dz)), az = !ax && !ay;
+            const Mask<T> ay = lane::not_(ax) && (ry > rz || (ry == rz && dy >= dz)), az = lane::not_(ax || ay);
             m = {lane::select(ax, lane::copysign(T(1), q.x), T(0)), lane::select(ay, lane::copysign(T(1), q.y), T(0)),
                  lane::select(az, lane::copysign(T(1), q.z), T(0))};
         } else {
@@ -600,7 +600,7 @@ int intersect_packet(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
 // ---- any hit (shadow rays) -------------------------------------------------
 template <class T, Precision P, unsigned F>
 inline Mask<T> any_hit(const PacketScene& s, const Ray<T, P>& r) {
-    Mask<T> blocked = !r.valid;  // nothing to test on masked lanes
+    Mask<T> blocked = lane::not_(r.valid);  // nothing to test on masked lanes
     for_each_primitive_type<F>(s, [&](auto tag, int n) {
         constexpr PrimitiveType type = decltype(tag)::value;
         if (lane::all(blocked)) return;
@@ -684,7 +684,7 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
             Mask<T> lit = hit && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
                 if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && !any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, l, inf<T>(), lit, reach));
+                    lit = lit && lane::not_(any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, l, inf<T>(), lit, reach)));
             }
             accumulate(e, lit, ndl, broadcast3<T>(a.r, a.g, a.b, k));
         }
@@ -698,7 +698,7 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
             // than ~1e15: r^2 subnormal, zero or overflowing, where rsqrt loses
             // bits or the estimate modes read 0): measure v in units of 2^-80
             // or 2^80 instead. Powers of two, so exact; a rare branch.
-            const Mask<T> odd = hit && !(r2 >= T(0x1p-100f) && r2 <= T(0x1p100f));
+            const Mask<T> odd = hit && lane::not_(r2 >= T(0x1p-100f) && r2 <= T(0x1p100f));
             if (lane::any(odd)) {
                 const Mask<T> far = r2 > T(1);
                 scale = lane::select(odd, lane::select(far, T(0x1p-80f), T(0x1p80f)), T(1));
@@ -712,8 +712,8 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
             Mask<T> lit = hit && apart && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
                 if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && !any_hit<T, P, kAllPrimitives>(
-                                     s, shadow_ray<T, P>(p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach));
+                    lit = lit && lane::not_(any_hit<T, P, kAllPrimitives>(
+                                     s, shadow_ray<T, P>(p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach)));
             }
             T weight = ndl;
             if constexpr (decltype(attenuated)::value) {
@@ -758,7 +758,7 @@ inline void tonemap_lanes(const PacketScene& s, const ColorPacket8& in, ColorPac
         const T mx = lane::max(r, lane::max(g, b));
         const Mask<T> over = mx > T(1);
         const Mask<T> infinite = mx == inf<T>();
-        const T scale = lane::rcp<P>(lane::select(over && !infinite, mx, T(1)));
+        const T scale = lane::rcp<P>(lane::select(over && lane::not_(infinite), mx, T(1)));
         auto fix = [&](const T& c) {
             return lane::select(infinite, lane::select(c == inf<T>(), T(1), T(0)), lane::select(over, lane::min(c * scale, T(1)), c));
         };
