@@ -123,8 +123,13 @@ double shade_flops_per_ray(const PacketScene& s) {
 // ---- tone map (tonemap_lanes) ---------------------------------------------------
 // max_to_one: scale = rcp(max) 1 div; c * scale x3 3                      =  4
 // clamp_to_color, saturate: compares, selects and min only                =  0
-// gamma: three pow() calls from xsimd/libm, not in the kernel source: not counted.
-double tonemap_flops_per_ray(ToneMap mode, bool /*gamma*/) { return mode == ToneMap::max_to_one ? 4 : 0; }
+// gamma: lane::pow_positive (lane_pow.hpp) per channel: subnormal scale 1,
+//   exponent 1 + 2 (halving m, e + 1), s = (m-1)/(m+1) 3, s^2 s^4 2, log
+//   polynomial 4 fma 8, s * poly 1, y e and its error (mul, sub, fma) 4,
+//   rest fma 2, ye + rest 1, two round_small 4, f = (ye - n) + rest 2,
+//   f^2 f^4 2, exp polynomial 7 fma 14, n * 0.5 1, n - n1 1, two scalings 2
+//                                                          per channel = 51, x3 = 153
+double tonemap_flops_per_ray(ToneMap mode, bool gamma) { return (mode == ToneMap::max_to_one ? 4 : 0) + (gamma ? 153 : 0); }
 
 // ---- camera (camera_lanes) ------------------------------------------------------
 // sx = (2 * (col + 0.5) / width - 1) * scale_x: add, mul, div, sub, mul   =  5

@@ -124,12 +124,15 @@ struct BlockImpl {
             store_lanes(out + i, fdot(nn, vv) * lane::rsqrt<P>(fdot(vv, vv)));
         }
     }
+    static void pow(const float* x, const float* y, float* out, int n) noexcept {
+        for (int i = 0; i < n; i += W) store_lanes(out + i, gamma_pow(load_lanes<T>(x + i), load_lanes<T>(y + i)));
+    }
 };
 
 template <class T, Precision P>
 Blocks make_blocks_at() {
     using B = BlockImpl<T, P>;
-    return {&B::rcp, &B::rsqrt, &B::div, &B::normalize, &B::ndotl};
+    return {&B::rcp, &B::rsqrt, &B::div, &B::normalize, &B::ndotl, &B::pow};
 }
 
 template <class F, class D, unsigned Modes>

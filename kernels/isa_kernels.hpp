@@ -39,6 +39,7 @@ struct Blocks {
     void (*div)(const float* a, const float* b, float* out, int n) noexcept = nullptr;
     void (*normalize)(const float* const v[3], float* const out[3], int n) noexcept = nullptr;  // v * rsqrt(v.v)
     void (*ndotl)(const float* const n[3], const float* const v[3], float* out, int count) noexcept = nullptr;  // (n.v) * rsqrt(v.v)
+    void (*pow)(const float* x, const float* y, float* out, int n) noexcept = nullptr;  // x^y, x > 0: the tone map's gamma
 };
 Blocks simd_avx2_blocks(Precision precision);
 Blocks scalar_avx2_blocks(Precision precision);

@@ -12,11 +12,13 @@
 #include "verify.hpp"
 
 #include <octray/kernels.hpp>
+#include <octray/lane_pow.hpp>
 #include <octray/reference.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 #include <string>
 #include <variant>
@@ -250,6 +252,66 @@ TEST_CASE("rsqrt stays within its stated bound") {
         MESSAGE(unit_name(u, p) << " rsqrt: max rel err " << worst / kUnitRoundoff << " u, bound " << rsqrt_bound(p) / kUnitRoundoff << " u");
         CHECK(worst <= rsqrt_bound(p));
         CHECK(worst > 0);
+    });
+}
+
+TEST_CASE("lane::min and lane::max keep the x86 rule on NaN: the second operand") {
+    // Kernels flush NaN with max(x, 0); lane.hpp maps min/max to minps/maxps.
+    using B = xsimd::batch<float>;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    CHECK(lane::max(nan, 0.0f) == 0.0f);
+    CHECK(std::isnan(lane::max(0.0f, nan)));
+    CHECK(lane::min(nan, 2.0f) == 2.0f);
+    CHECK(lane::max(B(nan), B(0.0f)).get(0) == 0.0f);
+    CHECK(std::isnan(lane::max(B(0.0f), B(nan)).get(0)));
+    CHECK(lane::min(B(nan), B(2.0f)).get(0) == 2.0f);
+    CHECK(std::isnan(lane::min(B(2.0f), B(nan)).get(0)));
+    CHECK(lane::min(B(1.0f), B(2.0f)).get(0) == 1.0f);
+    CHECK(lane::max(B(1.0f), B(2.0f)).get(0) == 2.0f);
+}
+
+TEST_CASE("the tone map's x^y stays within pow_max_ulp(y) and agrees across paths") {
+    // y: gamma 2.2's 1/2.2 and other display gammas, their inverses, and the
+    // largest |y| = 16 the bound is measured at; x log-uniform over the normal
+    // floats whose x^y is a normal float, and densely near 1 (c = 1 is common).
+    const float ys[] = {1 / 2.2f, 0.5f, 1 / 1.8f, 1 / 2.4f, 1.0f, 2.2f, -1.0f, 4.0f, 16.0f};
+    std::vector<float> first_unit;  // the first unit's exact-mode output: every float unit must match it
+    for_each_unit_mode([&](const kernels::Unit& u, Precision p) {
+        CAPTURE(unit_name(u, p));
+        const kernels::Blocks b = u.blocks(p);
+        REQUIRE(bool(b.pow));
+        Rng r(20240503u);
+        std::vector<float> x(kSamples), y(kSamples), out(kSamples);
+        for (int i = 0; i < kSamples; ++i) {
+            const float yi = ys[std::size_t(i) % std::size(ys)];
+            const double span = 126.0 / std::max(1.0, double(std::fabs(yi)));
+            x[std::size_t(i)] = i % 4 == 0 ? float(1 - r.uniform(0, 1e-3)) : r.logu(-span, i % 2 ? 0 : span, false);
+            y[std::size_t(i)] = yi;
+        }
+        x[0] = 1.0f;
+        b.pow(x.data(), y.data(), out.data(), kSamples);
+        double worst_ulps = 0, worst_abs = 0;
+        for (std::size_t i = 0; i < out.size(); ++i) {
+            const double want = std::pow(double(x[i]), double(y[i]));
+            int e;
+            std::frexp(want, &e);
+            const double ulps = std::fabs(double(out[i]) - want) / std::ldexp(1.0, e - 24);
+            CAPTURE(x[i]);
+            CAPTURE(y[i]);
+            CHECK(ulps <= lane::pow_max_ulp(y[i]));
+            worst_ulps = std::max(worst_ulps, ulps / lane::pow_max_ulp(y[i]));
+            worst_abs = std::max(worst_abs, ulps);
+        }
+        MESSAGE(unit_name(u, p) << " pow: worst error " << worst_ulps << " of its bound");
+        CHECK(out[0] == 1.0f);
+        if (p == Precision::f64) {
+            CHECK(worst_abs <= 0.5 + 1e-6);  // double lanes: double pow, rounded once to float
+            return;
+        }
+        CHECK(worst_ulps > 0.2);  // the samples reach the bound's order
+        // Float lanes: the same code on every unit and path, bit for bit.
+        if (first_unit.empty()) first_unit = out;
+        else CHECK(out == first_unit);
     });
 }
 
