@@ -41,8 +41,9 @@ void store_hit(const PacketScene& s, const Ray<T, P>& r, const T& t, const T& ci
     const M away = fdot(n, r.d) > T(0);
     n = {lane::select(away, -n.x, n.x), lane::select(away, -n.y, n.y), lane::select(away, -n.z, n.z)};
     store(hp.t, 0, lane::select(hit, t, inf<T>()));
-    store_index(hp.primitive, 0, lane::select(hit, lane::gather(s.object_of.data(), k), T(-1)));
-    store_index(hp.material, 0, lane::select(hit, lane::gather(s.material_of.data(), k), T(-1)));
+    const Lookup<T> at(k, hit);
+    store_index(hp.primitive, 0, lane::select(hit, at(s.object_of), T(-1)));
+    store_index(hp.material, 0, lane::select(hit, at(s.material_of), T(-1)));
     store(hp.nx, 0, lane::select(hit, n.x, T(0)));
     store(hp.ny, 0, lane::select(hit, n.y, T(0)));
     store(hp.nz, 0, lane::select(hit, n.z, T(0)));
@@ -62,9 +63,9 @@ int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     });
-    const T k = lane::select(cid >= T(0), cid, T(0));
+    const Lookup<T> at(lane::select(cid >= T(0), cid, T(0)), cid >= T(0));
     const Vec3<T> p = r.o + r.d * best;
-    store_hit(s, r, best, cid, (p - gather3(a.cx, a.cy, a.cz, k)) * lane::gather(a.inv_radius.data(), k), hp);
+    store_hit(s, r, best, cid, (p - at(a.cx, a.cy, a.cz)) * at(a.inv_radius), hp);
     return masked;
 }
 
@@ -80,8 +81,8 @@ int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     });
-    const T k = lane::select(cid >= T(0), cid, T(0));
-    store_hit(s, r, best, cid, gather3(a.nx, a.ny, a.nz, k), hp);
+    const Lookup<T> at(lane::select(cid >= T(0), cid, T(0)), cid >= T(0));
+    store_hit(s, r, best, cid, at(a.nx, a.ny, a.nz), hp);
     return masked;
 }
 
@@ -105,11 +106,12 @@ int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPack
         cid = lane::select(hit, T(float(s.offset[1] + k)), cid);
     });
     const M is_sphere = cid >= T(0) && cid < T(float(s.count[0]));
-    const T ks = lane::select(is_sphere, cid, T(0));
-    const T kp = lane::select(cid >= T(float(s.offset[1])), cid - T(float(s.offset[1])), T(0));
+    const M is_plane = cid >= T(float(s.offset[1]));
+    const Lookup<T> sphere_at(lane::select(is_sphere, cid, T(0)), is_sphere);
+    const Lookup<T> plane_at(lane::select(is_plane, cid - T(float(s.offset[1])), T(0)), is_plane);
     const Vec3<T> p = r.o + r.d * best;
-    const Vec3<T> ns = (p - gather3(a.cx, a.cy, a.cz, ks)) * lane::gather(a.inv_radius.data(), ks);
-    const Vec3<T> np = gather3(b.nx, b.ny, b.nz, kp);
+    const Vec3<T> ns = (p - sphere_at(a.cx, a.cy, a.cz)) * sphere_at(a.inv_radius);
+    const Vec3<T> np = plane_at(b.nx, b.ny, b.nz);
     store_hit(s, r, best, cid,
               {lane::select(is_sphere, ns.x, np.x), lane::select(is_sphere, ns.y, np.y), lane::select(is_sphere, ns.z, np.z)},
               hp);
@@ -129,8 +131,8 @@ int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& 
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     });
-    const T k = lane::select(cid >= T(0), cid, T(0));
-    store_hit(s, r, best, cid, gather3(a.nx, a.ny, a.nz, k), hp);
+    const Lookup<T> at(lane::select(cid >= T(0), cid, T(0)), cid >= T(0));
+    store_hit(s, r, best, cid, at(a.nx, a.ny, a.nz), hp);
     return masked;
 }
 
@@ -146,8 +148,8 @@ int intersect_boxes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) 
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     });
-    const T k = lane::select(cid >= T(0), cid, T(0));
-    const Vec3<T> lo = gather3(a.minx, a.miny, a.minz, k), hi = gather3(a.maxx, a.maxy, a.maxz, k);
+    const Lookup<T> at(lane::select(cid >= T(0), cid, T(0)), cid >= T(0));
+    const Vec3<T> lo = at(a.minx, a.miny, a.minz), hi = at(a.maxx, a.maxy, a.maxz);
     const Vec3<T> q = r.o + r.d * best - (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
     const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
     const M ax = rx >= ry && rx >= rz, ay = lane::not_(ax) && ry >= rz, az = lane::not_(ax || ay);
@@ -192,13 +194,14 @@ Vec3<T> directional_sum(const PacketScene& s, const Surface& f) {
 // directional lights, no ambient
 void shade_directional(const PacketScene& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
     const Surface f = surface(rp, hp);
-    store_color(s, f, hadamard(gather3(s.diffuse_r, s.diffuse_g, s.diffuse_b, f.m), directional_sum(s, f)), out);
+    store_color(s, f, hadamard(Lookup<T>(f.m, f.hit)(s.diffuse_r, s.diffuse_g, s.diffuse_b), directional_sum(s, f)), out);
 }
 // ambient + directional lights
 void shade_ambient_directional(const PacketScene& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
     const Surface f = surface(rp, hp);
-    const Vec3<T> c = hadamard(gather3(s.diffuse_r, s.diffuse_g, s.diffuse_b, f.m), directional_sum(s, f)) +
-                      gather3(s.ambient_r, s.ambient_g, s.ambient_b, f.m);
+    const Lookup<T> material(f.m, f.hit);
+    const Vec3<T> c = hadamard(material(s.diffuse_r, s.diffuse_g, s.diffuse_b), directional_sum(s, f)) +
+                      material(s.ambient_r, s.ambient_g, s.ambient_b);
     store_color(s, f, c, out);
 }
 // point lights, with or without 1/r^2, no ambient
@@ -218,7 +221,7 @@ void shade_point(const PacketScene& s, const RayPacket8& rp, const HitPacket8& h
         if constexpr (Attenuated) w = w * (inv_r * inv_r);
         accumulate(e, f.hit && apart && ndl > T(0), w, broadcast3<T>(a.r, a.g, a.b, k));
     }
-    store_color(s, f, hadamard(gather3(s.diffuse_r, s.diffuse_g, s.diffuse_b, f.m), e), out);
+    store_color(s, f, hadamard(Lookup<T>(f.m, f.hit)(s.diffuse_r, s.diffuse_g, s.diffuse_b), e), out);
 }
 
 // ---- the subsets ------------------------------------------------------------

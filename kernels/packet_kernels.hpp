@@ -102,6 +102,24 @@ inline Vec3<T> gather3(const Floats& x, const Floats& y, const Floats& z, const 
     return {lane::gather(x.data(), idx), lane::gather(y.data(), idx), lane::gather(z.data(), idx)};
 }
 
+// Per-lane reads of scene arrays at `idx` (exact small integers), where only
+// the lanes of `m` matter: one broadcast load when those lanes agree on the
+// index, which a packet of coherent rays mostly does, else a gather. Lanes
+// outside `m` then read the agreed element instead of their own: callers
+// select them away.
+template <class T>
+struct Lookup {
+    T idx;
+    int first;
+    bool uniform;
+    Lookup(const T& index, const Mask<T>& m) : idx(index), uniform(lane::uniform_on(index, m, first)) {}
+    T operator()(const Floats& a) const { return uniform ? T(a[std::size_t(first)]) : lane::gather(a.data(), idx); }
+    Vec3<T> operator()(const Floats& x, const Floats& y, const Floats& z) const {
+        if (uniform) return broadcast3<T>(x, y, z, first);
+        return gather3(x, y, z, idx);
+    }
+};
+
 template <class T>
 inline T fdot(const Vec3<T>& a, const Vec3<T>& b) { return lane::fma(a.x, b.x, lane::fma(a.y, b.y, a.z * b.z)); }
 
@@ -533,17 +551,17 @@ inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, 
         const int base = s.offset[int(type)];
         const Mask<T> mine = hit && cid >= T(float(base)) && cid < T(float(base + count));
         if (count == 0 || !lane::any(mine)) return;
-        const T k = lane::select(mine, cid - T(float(base)), T(0));
+        const Lookup<T> at(lane::select(mine, cid - T(float(base)), T(0)), mine);
         Vec3<T> m;
         if constexpr (type == PrimitiveType::sphere) {
             const SphereArrays& a = s.spheres;
-            m = (p - gather3(a.cx, a.cy, a.cz, k)) * lane::gather(a.inv_radius.data(), k);
+            m = (p - at(a.cx, a.cy, a.cz)) * at(a.inv_radius);
         } else if constexpr (type == PrimitiveType::plane) {
-            m = gather3(s.planes.nx, s.planes.ny, s.planes.nz, k);
+            m = at(s.planes.nx, s.planes.ny, s.planes.nz);
         } else if constexpr (type == PrimitiveType::disk) {
-            m = gather3(s.disks.nx, s.disks.ny, s.disks.nz, k);
+            m = at(s.disks.nx, s.disks.ny, s.disks.nz);
         } else if constexpr (type == PrimitiveType::rectangle) {
-            m = gather3(s.rectangles.nx, s.rectangles.ny, s.rectangles.nz, k);
+            m = at(s.rectangles.nx, s.rectangles.ny, s.rectangles.nz);
         } else if constexpr (type == PrimitiveType::box) {
             // The face is the axis where p sits farthest out relative to the
             // half extent. On an edge or corner (a tie) it is the face the ray
@@ -551,7 +569,7 @@ inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, 
             // ray gliding along one face into an edge enters through the other,
             // as the reference's deciding slab says.
             const BoxArrays& a = s.boxes;
-            const Vec3<T> lo = gather3(a.minx, a.miny, a.minz, k), hi = gather3(a.maxx, a.maxy, a.maxz, k);
+            const Vec3<T> lo = at(a.minx, a.miny, a.minz), hi = at(a.maxx, a.maxy, a.maxz);
             const Vec3<T> c = (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
             const Vec3<T> q = p - c;
             const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
@@ -561,7 +579,7 @@ inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, 
             m = {lane::select(ax, lane::copysign(T(1), q.x), T(0)), lane::select(ay, lane::copysign(T(1), q.y), T(0)),
                  lane::select(az, lane::copysign(T(1), q.z), T(0))};
         } else {
-            m = gather3(s.triangles.nx, s.triangles.ny, s.triangles.nz, k);
+            m = at(s.triangles.nx, s.triangles.ny, s.triangles.nz);
         }
         n = {lane::select(mine, m.x, n.x), lane::select(mine, m.y, n.y), lane::select(mine, m.z, n.z)};
     });
@@ -581,8 +599,9 @@ inline int intersect_lanes(const PacketScene& s, const RayPacket8& rp, HitPacket
     const Mask<T> away = fdot(n, r.d) > T(0);
     n = {lane::select(away, T(0) - n.x, n.x), lane::select(away, T(0) - n.y, n.y), lane::select(away, T(0) - n.z, n.z)};
     store(hp.t, lane, lane::select(hit, best.t, inf<T>()));
-    store_index(hp.primitive, lane, lane::select(hit, lane::gather(s.object_of.data(), cid), T(-1)));
-    store_index(hp.material, lane, lane::select(hit, lane::gather(s.material_of.data(), cid), T(-1)));
+    const Lookup<T> at(cid, hit);
+    store_index(hp.primitive, lane, lane::select(hit, at(s.object_of), T(-1)));
+    store_index(hp.material, lane, lane::select(hit, at(s.material_of), T(-1)));
     store(hp.nx, lane, lane::select(hit, n.x, T(0)));
     store(hp.ny, lane, lane::select(hit, n.y, T(0)));
     store(hp.nz, lane, lane::select(hit, n.z, T(0)));
@@ -730,11 +749,12 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
     if constexpr ((F & kPointAttenuated) != 0) point_lights(s.point_attenuated, s.point_attenuated_count, std::true_type{});
 
     // L = ka cd * ls cl  +  kd cd / pi * E   (eq. 8, the diffuse factor taken out of the sum)
-    Vec3<T> c = hadamard(gather3(s.diffuse_r, s.diffuse_g, s.diffuse_b, m), e);
+    const Lookup<T> material(m, hit);
+    Vec3<T> c = hadamard(material(s.diffuse_r, s.diffuse_g, s.diffuse_b), e);
     // kd cd = 0 times an overflowed E = +inf is NaN; the radiance is 0 there
     // (max(x, 0) flushes NaN to 0; every other x is >= 0 and passes).
     c = {lane::max(c.x, T(0)), lane::max(c.y, T(0)), lane::max(c.z, T(0))};
-    if constexpr ((F & kAmbient) != 0) c += gather3(s.ambient_r, s.ambient_g, s.ambient_b, m);
+    if constexpr ((F & kAmbient) != 0) c += material(s.ambient_r, s.ambient_g, s.ambient_b);
     store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));
     store(out.g, lane, lane::select(hit, c.y, T(s.background[1])));
     store(out.b, lane, lane::select(hit, c.z, T(s.background[2])));

@@ -255,21 +255,6 @@ TEST_CASE("rsqrt stays within its stated bound") {
     });
 }
 
-TEST_CASE("lane::min and lane::max keep the x86 rule on NaN: the second operand") {
-    // Kernels flush NaN with max(x, 0); lane.hpp maps min/max to minps/maxps.
-    using B = xsimd::batch<float>;
-    const float nan = std::numeric_limits<float>::quiet_NaN();
-    CHECK(lane::max(nan, 0.0f) == 0.0f);
-    CHECK(std::isnan(lane::max(0.0f, nan)));
-    CHECK(lane::min(nan, 2.0f) == 2.0f);
-    CHECK(lane::max(B(nan), B(0.0f)).get(0) == 0.0f);
-    CHECK(std::isnan(lane::max(B(0.0f), B(nan)).get(0)));
-    CHECK(lane::min(B(nan), B(2.0f)).get(0) == 2.0f);
-    CHECK(std::isnan(lane::min(B(2.0f), B(nan)).get(0)));
-    CHECK(lane::min(B(1.0f), B(2.0f)).get(0) == 1.0f);
-    CHECK(lane::max(B(1.0f), B(2.0f)).get(0) == 2.0f);
-}
-
 TEST_CASE("the tone map's x^y stays within pow_max_ulp(y) and agrees across paths") {
     // y: gamma 2.2's 1/2.2 and other display gammas, their inverses, and the
     // largest |y| = 16 the bound is measured at; x log-uniform over the normal

@@ -88,6 +88,11 @@ inline float rsqrt14_estimate(float x) { return _mm_cvtss_f32(_mm_rsqrt14_ss(_mm
 inline float gather(const float* base, float index) { return base[int(index)]; }
 inline double gather(const double* base, double index) { return base[long(index)]; }
 inline double gather(const float* base, double index) { return double(base[long(index)]); }
+// Does `index` hold one value on every lane of `m`? Then `value` is it (as
+// an int); a packet of coherent rays mostly does, and one broadcast load is
+// then worth 8 gathered ones. One lane always agrees with itself.
+inline bool uniform_on(float index, bool, int& value) { value = int(index); return true; }
+inline bool uniform_on(double index, bool, int& value) { value = int(index); return true; }
 
 // ---- SIMD lanes ------------------------------------------------------------
 template <class S, class A>
@@ -236,6 +241,29 @@ inline xsimd::batch<S, A> gather(const S* base, const xsimd::batch<S, A>& index)
     using I = xsimd::as_integer_t<S>;
     return B::gather(base, xsimd::batch_cast<I>(index));
 }
+template <class S, class A>
+inline bool uniform_on(const xsimd::batch<S, A>& index, const xsimd::batch_bool<S, A>& m, int& value) {
+    using B = xsimd::batch<S, A>;
+#if defined(__AVX2__)
+    if constexpr (std::is_same_v<S, float> && B::size == 8) {
+        const unsigned on = unsigned(_mm256_movemask_ps(m));
+        const __m256 first = _mm256_permutevar8x32_ps(index, _mm256_set1_epi32(on ? __builtin_ctz(on) : 0));
+        value = int(_mm256_cvtss_f32(first));
+        return ((unsigned(_mm256_movemask_ps(_mm256_cmp_ps(index, first, _CMP_EQ_OQ))) | ~on) & 0xffu) == 0xffu;
+    }
+#endif
+    alignas(64) S idx[B::size];
+    alignas(64) S on[B::size];
+    index.store_aligned(idx);
+    xsimd::select(m, B(S(1)), B(S(0))).store_aligned(on);
+    std::size_t first = 0;
+    while (first + 1 < B::size && on[first] == S(0)) ++first;
+    value = int(idx[first]);
+    for (std::size_t i = 0; i < B::size; ++i)
+        if (on[i] != S(0) && idx[i] != idx[first]) return false;
+    return true;
+}
+
 // Double lanes reading a float scene array.
 template <class A>
 inline xsimd::batch<double, A> gather(const float* base, const xsimd::batch<double, A>& index) {

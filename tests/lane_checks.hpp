@@ -1,0 +1,58 @@
+// tests/lane_checks.hpp — checks of lane.hpp's batch functions, written over
+// the batch type so each test unit runs them at its own ISA (test_lane.cpp:
+// the default target; test_lane_avx2.cpp: -mavx2 -mfma, where lane.hpp takes
+// its intrinsic paths). Internal linkage, and no std:: templates of their
+// own, so nothing compiled for AVX2 can be merged into the default unit.
+#pragma once
+
+#include <doctest/doctest.h>
+
+#include <octray/lane.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace octray::test {
+namespace {
+
+// Kernels flush NaN with max(x, 0): min/max must keep x86's a < b ? a : b.
+template <class B>
+void check_min_max_nan_rule() {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    CHECK(lane::max(B(nan), B(0.0f)).get(0) == 0.0f);
+    CHECK(std::isnan(lane::max(B(0.0f), B(nan)).get(0)));
+    CHECK(lane::min(B(nan), B(2.0f)).get(0) == 2.0f);
+    CHECK(std::isnan(lane::min(B(2.0f), B(nan)).get(0)));
+    CHECK(lane::min(B(1.0f), B(2.0f)).get(0) == 1.0f);
+    CHECK(lane::max(B(1.0f), B(2.0f)).get(0) == 2.0f);
+}
+
+// uniform_on: true iff the lanes of the mask share one index (then `value` is
+// it); lanes off the mask never matter.
+template <class B>
+void check_uniform_on() {
+    using BB = typename B::batch_bool_type;
+    constexpr std::size_t n = B::size;
+    std::uint32_t state = 7;
+    auto rng = [&state] { return (state = state * 1664525u + 1013904223u) >> 8; };
+    for (int trial = 0; trial < 4000; ++trial) {
+        alignas(64) float idx[n];
+        alignas(64) float on[n];
+        for (std::size_t i = 0; i < n; ++i) idx[i] = float(rng() % 3), on[i] = rng() % 4 != 0 ? 1.0f : 0.0f;
+        bool want = true;
+        int first = -1;
+        for (std::size_t i = 0; i < n; ++i)
+            if (on[i] != 0) {
+                if (first < 0) first = int(idx[i]);
+                else if (int(idx[i]) != first) want = false;
+            }
+        int value = -1;
+        const BB mask = B::load_aligned(on) != B(0.0f);
+        CHECK(lane::uniform_on(B::load_aligned(idx), mask, value) == want);
+        if (want && first >= 0) CHECK(value == first);
+    }
+}
+
+}  // namespace
+}  // namespace octray::test

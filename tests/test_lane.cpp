@@ -1,0 +1,25 @@
+// lane.hpp's batch functions at the default target and, where this CPU runs
+// it, at AVX2 (test_lane_avx2.cpp), where lane.hpp takes intrinsic paths.
+#include "lane_checks.hpp"
+
+namespace octray::test {
+bool avx2_lane_checks();  // test_lane_avx2.cpp: false where the CPU lacks AVX2
+}
+
+using namespace octray;
+
+TEST_CASE("lane::min and lane::max keep the x86 rule on NaN: the second operand") {
+    CHECK(lane::max(std::numeric_limits<float>::quiet_NaN(), 0.0f) == 0.0f);
+    test::check_min_max_nan_rule<xsimd::batch<float>>();
+}
+
+TEST_CASE("lane::uniform_on finds one index shared by the masked lanes, ignoring the others") {
+    int value = -1;
+    CHECK(lane::uniform_on(5.0f, false, value));
+    CHECK(value == 5);
+    test::check_uniform_on<xsimd::batch<float>>();
+}
+
+TEST_CASE("the same lane checks at AVX2 (lane.hpp's intrinsic paths)") {
+    if (!test::avx2_lane_checks()) MESSAGE("this CPU has no AVX2: skipped");
+}
