@@ -42,6 +42,9 @@ using AlignedVec = std::vector<T, AlignedAllocator<T>>;
 enum class Layout { sphere, plane, disk, rectangle, box, triangle, mixed };
 const char* layout_name(Layout l);
 Scene grid_scene(Layout layout, int n, bool floor, int width, int height);
+// n nested spheres that every camera ray's line crosses: every sphere test
+// of every packet runs in full (the FLOP count of the sphere is the work done).
+Scene nested_spheres_scene(int n, int width, int height);
 
 // ---- ray and hit sets ----------------------------------------------------------
 struct RaySet {

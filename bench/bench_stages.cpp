@@ -6,6 +6,8 @@
 //   camera/{pinhole,orthographic}/PATH           128x128 image per iteration
 //   intersect/TYPE:N/PATH                        one type, N = 1, 16, 256
 //   intersect/sphere:256_all_tests/PATH          256 spheres, cluster culling off
+//   intersect/sphere:256_full_tests/PATH         256 nested spheres, culling off,
+//                                                every test runs in full (no exit)
 //   intersect/mixed:N/PATH                       six types cycled, N = 1..256
 //   shade/LIGHTS/PATH                            per light type, 1..64 lights
 //   shade/default/PATH                           scenes/default.json's lights and hits
@@ -115,6 +117,16 @@ void bm_intersect(benchmark::State& st, Layout layout, int n, Path path) {
 void bm_intersect_all_tests(benchmark::State& st, Layout layout, int n, Path path) {
     const std::string key = std::string("intersect/") + layout_name(layout) + ":" + std::to_string(n);
     const Fixture& f = cached(key, [&](Fixture& fx) { prepare(fx, grid_scene(layout, n, false, kImage, kImage)); });
+    if (!check(st, f)) return;
+    PacketScene all = f.scene;
+    for (ClusterArrays& c : all.clusters) std::fill(c.radius.begin(), c.radius.end(), INFINITY);
+    time_intersect(st, select_kernel(all, path), all, f.rays);
+    st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
+}
+
+void bm_intersect_full_tests(benchmark::State& st, int n, Path path) {
+    const Fixture& f = cached("intersect/nested_spheres:" + std::to_string(n),
+                              [&](Fixture& fx) { prepare(fx, nested_spheres_scene(n, kImage, kImage)); });
     if (!check(st, f)) return;
     PacketScene all = f.scene;
     for (ClusterArrays& c : all.clusters) std::fill(c.radius.begin(), c.radius.end(), INFINITY);
@@ -282,6 +294,9 @@ void register_all() {
  for (Path p : kPaths)
         benchmark::RegisterBenchmark(("intersect/sphere:256_all_tests" + path_suffix(p)).c_str(),
                                      [p](benchmark::State& st) { bm_intersect_all_tests(st, Layout::sphere, 256, p); });
+    for (Path p : kPaths)
+        benchmark::RegisterBenchmark(("intersect/sphere:256_full_tests" + path_suffix(p)).c_str(),
+                                     [p](benchmark::State& st) { bm_intersect_full_tests(st, 256, p); });
     for (int n : {1, 4, 16, 64, 256})
         for (Path p : kPaths)
             benchmark::RegisterBenchmark(("intersect/mixed:" + std::to_string(n) + path_suffix(p)).c_str(),

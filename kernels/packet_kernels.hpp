@@ -134,6 +134,7 @@ struct Ray {
     Mask<T> valid;    // active and numerically usable
     Mask<T> invalid;  // active but masked off for bad input
     // Per-ray quantities shared by every primitive test (hoisted out of the loops).
+    T dd;            // d.d
     T inv_dd;        // 1 / (d.d), IEEE in every precision mode (see finish_ray)
     T len_d;         // |d| = sqrt(d.d)
     Vec3<T> inv_d;   // 1 / d per axis, +-inf for a zero or subnormal component
@@ -158,6 +159,7 @@ inline constexpr float kMaxDirection2 = 0x1p126f;
 // boxes, the shear for triangles.
 template <unsigned F, class T, Precision P>
 inline void finish_ray(Ray<T, P>& r, const T& dd) {
+    r.dd = dd;
     r.inv_dd = T(1) / dd;
     r.len_d = lane::sqrt(dd);
     if constexpr ((F & kBox) != 0) {
@@ -253,6 +255,19 @@ struct SphereRoots {
 template <class T, Precision P>
 OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, const T& r2, const T& radius) {
     const T b = fdot(f, r.d);                       // half of the textbook b
+    const T s2 = fdot(f, f);
+    T c = s2 - r2;
+    // A packet whose every lane misses by far more than the rounding error
+    // stops here: most packets miss most spheres, and the rest of the test
+    // (two dependent dot products, a sqrt and a division) is the slow part.
+    // The exit tests the textbook a disc = b^2 - a c, whose dependency chain
+    // is half as long as disc's below (this loop is latency-bound); its
+    // rounding error is below ~12u a (|f|^2 + r^2), the margin is 2^-18 a
+    // (|f|^2 + r^2) = 64u, so an exiting lane misses by that much and the
+    // full test would say so too (disc's error is smaller still). NaN or inf
+    // (huge coordinates) never exits; a lane's answer is the same either way.
+    const T bb = b * b, ac = r.dd * c;
+    if (lane::all(bb - ac < T(-0x1p-18f) * (r.dd * (s2 + r2)))) return {T(0), T(0), T(-1), T(0)};
     const T b_a = b * r.inv_dd;
     const Vec3<T> perp = f - r.d * b_a;             // f minus its projection on d
     // disc = (b^2 - a c) / a^2 = r^2 - |perp|^2: from perp its error is
@@ -260,14 +275,6 @@ OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, con
     // textbook b^2 - ac cancels.
     const T perp2 = fdot(perp, perp);
     T disc = r2 - perp2;
-    const T s2 = fdot(f, f);
-    // A packet whose every lane misses by far more than the rounding error of
-    // disc (~u (r^2 + |f|^2), the margin is 16 times that) stops here: most
-    // packets miss most spheres, and the sqrt and division below are the
-    // slow part. NaN or inf (huge coordinates) never takes this exit, and a
-    // lane's answer is the same either way.
-    if (lane::all(disc < T(-0x1p-20f) * (r2 + s2))) return {T(0), T(0), disc, T(0)};
-    T c = s2 - r2;
     // Near the surface c cancels: the plain difference keeps an error
     // ~2u max(|f|^2, r^2), within 8u of |c| unless |c| < max / 4. Lanes that
     // cancel more (origins within ~15% of the radius of the surface: shadow
@@ -495,7 +502,7 @@ OCTRAY_HOT T test_primitive(const PacketScene& s, int k, const Ray<T, P>& r, Mas
 // line passes outside the sphere, or the sphere lies behind the origin, or
 // it begins beyond tbest — each by a margin of 2^-18 of the squared scale
 // (t: 2^-10 relative), far above the rounding error of these few operations
-// (~8u). NaN or inf (huge coordinates) answers maybe. Skipping changes no
+// (~12u). NaN or inf (huge coordinates) answers maybe. Skipping changes no
 // lane's result, so the scalar and SIMD paths still agree bit for bit.
 template <class T, Precision P>
 OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterArrays& c, int j, const T& tbest) {
@@ -503,9 +510,12 @@ OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterArrays& c, int 
     const T rb = broadcast<T>(c.radius, j);
     const T rb2 = rb * rb, s2 = fdot(f, f);
     const T b = fdot(f, r.d);
-    const Vec3<T> perp = f - r.d * (b * r.inv_dd);
-    const Mask<T> line_misses = fdot(perp, perp) - rb2 > T(0x1p-18f) * (s2 + rb2);
-    const Mask<T> behind = b > T(0) && s2 - rb2 > T(0x1p-18f) * (s2 + rb2);
+    // The line misses: a (rb^2 - |perp|^2) = b^2 - a (s2 - rb2) < 0, in the
+    // textbook form for its short dependency chain (as sphere_roots' exit;
+    // its error is below ~12u a (s2 + rb2), a sixth of the margin).
+    const T outside = s2 - rb2, margin = T(0x1p-18f) * (s2 + rb2);
+    const Mask<T> line_misses = b * b - r.dd * outside < T(0) - r.dd * margin;
+    const Mask<T> behind = b > T(0) && outside > margin;
     const T t_enter = (T(0) - b - rb * r.len_d) * r.inv_dd;  // no point of the sphere is nearer
     const Mask<T> beyond = t_enter - lane::abs(t_enter) * T(0x1p-10f) > tbest;
     return lane::any(r.valid && lane::not_(line_misses || behind || beyond));
