@@ -119,7 +119,7 @@ void bm_intersect_all_tests(benchmark::State& st, Layout layout, int n, Path pat
     const Fixture& f = cached(key, [&](Fixture& fx) { prepare(fx, grid_scene(layout, n, false, kImage, kImage)); });
     if (!check(st, f)) return;
     PacketScene all = f.scene;
-    for (ClusterArrays& c : all.clusters) std::fill(c.radius.begin(), c.radius.end(), INFINITY);
+    for (ClusterTree& c : all.clusters) std::fill(c.radius.begin(), c.radius.end(), INFINITY);
     time_intersect(st, select_kernel(all, path), all, f.rays);
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }
@@ -129,7 +129,7 @@ void bm_intersect_full_tests(benchmark::State& st, int n, Path path) {
                               [&](Fixture& fx) { prepare(fx, nested_spheres_scene(n, kImage, kImage)); });
     if (!check(st, f)) return;
     PacketScene all = f.scene;
-    for (ClusterArrays& c : all.clusters) std::fill(c.radius.begin(), c.radius.end(), INFINITY);
+    for (ClusterTree& c : all.clusters) std::fill(c.radius.begin(), c.radius.end(), INFINITY);
     time_intersect(st, select_kernel(all, path), all, f.rays);
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }

@@ -505,7 +505,7 @@ OCTRAY_HOT T test_primitive(const PacketScene& s, int k, const Ray<T, P>& r, Mas
 // (~12u). NaN or inf (huge coordinates) answers maybe. Skipping changes no
 // lane's result, so the scalar and SIMD paths still agree bit for bit.
 template <class T, Precision P>
-OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterArrays& c, int j, const T& tbest) {
+OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterTree& c, int j, const T& tbest) {
     const Vec3<T> f = r.o - broadcast3<T>(c.cx, c.cy, c.cz, j);
     const T rb = broadcast<T>(c.radius, j);
     const T rb2 = rb * rb, s2 = fdot(f, f);
@@ -521,16 +521,33 @@ OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterArrays& c, int 
     return lane::any(r.valid && lane::not_(line_misses || behind || beyond));
 }
 
-// Calls test(k) for every primitive k of the type that may hit before `tbest`,
-// a cluster of kClusterSize at a time (planes: all of them).
+// Calls test(k) for every primitive k of the type that may hit before `tbest`
+// (which `test` may lower as it goes), walking the type's bounding-sphere tree
+// (planes: all of them). Children are visited left first whatever the rays'
+// direction, so primitives are tested in compiled order, as without the tree:
+// exact-t ties resolve the same way on every path.
 template <PrimitiveType Type, class T, Precision P, class Test>
 OCTRAY_HOT void for_each_candidate(const PacketScene& s, int n, const Ray<T, P>& r, const T& tbest, Test&& test) {
-    for (int first = 0; first < n; first += kClusterSize) {
-        if constexpr (Type != PrimitiveType::plane) {
-            if (!cluster_may_hit(r, s.clusters[std::size_t(Type)], first / kClusterSize, tbest)) continue;
+    if constexpr (Type == PrimitiveType::plane) {
+        for (int k = 0; k < n; ++k) test(k);
+    } else {
+        const ClusterTree& tree = s.clusters[std::size_t(Type)];
+        int stack[64];  // a balanced tree: depth <= 22 for 2^24 primitives
+        int top = 0;
+        if (tree.size() > 0) stack[top++] = 0;
+        while (top > 0) {
+            const int j = stack[--top];
+            if (!cluster_may_hit(r, tree, j, tbest)) continue;
+            const int right = tree.right[std::size_t(j)];
+            if (right >= 0) {
+                stack[top++] = right;
+                stack[top++] = j + 1;
+                continue;
+            }
+            const int first = tree.cluster[std::size_t(j)] * kClusterSize;
+            const int last = first + kClusterSize < n ? first + kClusterSize : n;
+            for (int k = first; k < last; ++k) test(k);
         }
-        const int last = first + kClusterSize < n ? first + kClusterSize : n;
-        for (int k = first; k < last; ++k) test(k);
     }
 }
 

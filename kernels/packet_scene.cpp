@@ -61,24 +61,42 @@ std::optional<Bound> bound_of(const Shape& shape) {
         shape);
 }
 
-// One bounding sphere per kClusterSize consecutive members: centred on the
-// members' bounding box, radius rounded up to a float that contains them all.
-void build_clusters(const std::vector<Bound>& members, ClusterArrays& out) {
-    for (std::size_t first = 0; first < members.size(); first += kClusterSize) {
-        const std::size_t last = std::min(members.size(), first + kClusterSize);
-        Vec3d lo = members[first].center, hi = lo;
-        for (std::size_t i = first; i < last; ++i) {
-            const Bound& b = members[i];
-            lo = {std::min(lo.x, b.center.x - b.radius), std::min(lo.y, b.center.y - b.radius), std::min(lo.z, b.center.z - b.radius)};
-            hi = {std::max(hi.x, b.center.x + b.radius), std::max(hi.y, b.center.y + b.radius), std::max(hi.z, b.center.z + b.radius)};
-        }
-        const Vec3f c{float((lo.x + hi.x) / 2), float((lo.y + hi.y) / 2), float((lo.z + hi.z) / 2)};
-        double r = 0;
-        for (std::size_t i = first; i < last; ++i)
-            r = std::max(r, std::sqrt(length_squared(members[i].center - Vec3d(c))) + members[i].radius);
-        out.cx.push_back(c.x), out.cy.push_back(c.y), out.cz.push_back(c.z);
-        out.radius.push_back(std::nextafter(float(r * (1 + 1e-6)), std::numeric_limits<float>::infinity()));
+// The bounding sphere of members [first, last): centred on their bounding
+// box, radius rounded up to a float that contains them all.
+void enclose(const std::vector<Bound>& members, std::size_t first, std::size_t last, ClusterTree& out) {
+    Vec3d lo = members[first].center, hi = lo;
+    for (std::size_t i = first; i < last; ++i) {
+        const Bound& b = members[i];
+        lo = {std::min(lo.x, b.center.x - b.radius), std::min(lo.y, b.center.y - b.radius), std::min(lo.z, b.center.z - b.radius)};
+        hi = {std::max(hi.x, b.center.x + b.radius), std::max(hi.y, b.center.y + b.radius), std::max(hi.z, b.center.z + b.radius)};
     }
+    const Vec3f c{float((lo.x + hi.x) / 2), float((lo.y + hi.y) / 2), float((lo.z + hi.z) / 2)};
+    double r = 0;
+    for (std::size_t i = first; i < last; ++i)
+        r = std::max(r, std::sqrt(length_squared(members[i].center - Vec3d(c))) + members[i].radius);
+    out.cx.push_back(c.x), out.cy.push_back(c.y), out.cz.push_back(c.z);
+    out.radius.push_back(std::nextafter(float(r * (1 + 1e-6)), std::numeric_limits<float>::infinity()));
+}
+
+// Appends the subtree over clusters [first, last) in depth-first order; an
+// inner node's bound encloses its primitives directly (tighter than a sphere
+// around its children's spheres).
+void build_tree(const std::vector<Bound>& members, int first, int last, ClusterTree& out) {
+    const std::size_t node = out.right.size();
+    enclose(members, std::size_t(first) * kClusterSize,
+            std::min(members.size(), std::size_t(last) * kClusterSize), out);
+    out.right.push_back(-1);
+    out.cluster.push_back(last - first == 1 ? first : -1);
+    if (last - first == 1) return;
+    const int mid = first + (last - first) / 2;
+    build_tree(members, first, mid, out);
+    out.right[node] = std::int32_t(out.right.size());
+    build_tree(members, mid, last, out);
+}
+
+void build_clusters(const std::vector<Bound>& members, ClusterTree& out) {
+    const int clusters = int((members.size() + kClusterSize - 1) / kClusterSize);
+    if (clusters > 0) build_tree(members, 0, clusters, out);
 }
 
 // 30-bit Morton code of a point in [0,1]^3 (10 bits per axis, interleaved).

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 #include <vector>
@@ -65,18 +66,27 @@ struct PacketCamera {
     int width = 0, height = 0;
 };
 
-// Bounding spheres of consecutive groups of kClusterSize primitives of one
-// type (in compiled, i.e. Morton, order), so a packet can skip a group that none of its rays
-// comes near. Radii are rounded up: every member lies inside.
+// A binary tree of bounding spheres over one type's primitives (in compiled,
+// i.e. Morton, order), so a packet skips every region none of its rays comes
+// near. Leaves are clusters of kClusterSize consecutive primitives; an inner
+// node splits its run of clusters in halves. Nodes are stored depth first:
+// node j's left child is j + 1, its right child right[j] (-1 for a leaf, whose
+// cluster is cluster[j]: primitives from cluster[j] * kClusterSize on). Radii
+// are rounded up: every primitive lies inside each node above it.
 inline constexpr int kClusterSize = 8;
-struct ClusterArrays { Floats cx, cy, cz, radius; };
+struct ClusterTree {
+    Floats cx, cy, cz, radius;             // per node
+    std::vector<std::int32_t> right;       // right child, -1 for a leaf
+    std::vector<std::int32_t> cluster;     // a leaf's cluster (-1 for an inner node)
+    int size() const { return int(right.size()); }
+};
 
 struct PacketScene {
     Features features;
     std::array<int, kPrimitiveTypeCount> count{};   // primitives per type
     std::array<int, kPrimitiveTypeCount> offset{};  // first compiled id per type
-    // Per type, one bounding sphere per kClusterSize primitives; planes have none.
-    std::array<ClusterArrays, kPrimitiveTypeCount> clusters;
+    // Per type, the bounding-sphere tree over its clusters; planes have none.
+    std::array<ClusterTree, kPrimitiveTypeCount> clusters;
     SphereArrays spheres;
     PlaneArrays planes;
     DiskArrays disks;
