@@ -5,6 +5,9 @@
 #include <octray/kernels.hpp>
 
 #include <algorithm>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 #include <cmath>
 
 namespace octray {
@@ -67,6 +70,33 @@ std::string Kernel::name() const {
            feature_string(primitive_bits | light_bits) + "]";
 }
 
+namespace {
+
+// The first n pixels of a packet, SoA, to interleaved RGB at dst. A full
+// packet goes through SSE shuffles (this runs once per packet on every path:
+// element by element it was ~14% of the SIMD path's instructions).
+void interleave_rgb(const ColorPacket8& c, int n, float* dst) {
+#if defined(__SSE2__)
+    if (n == kPacketWidth) {
+        for (int h = 0; h < kPacketWidth; h += 4, dst += 12) {
+            const __m128 r = _mm_load_ps(c.r + h), g = _mm_load_ps(c.g + h), b = _mm_load_ps(c.b + h);
+            const __m128 rg_lo = _mm_unpacklo_ps(r, g), rg_hi = _mm_unpackhi_ps(r, g);  // r0 g0 r1 g1 | r2 g2 r3 g3
+            const __m128 b0r1 = _mm_shuffle_ps(b, r, _MM_SHUFFLE(1, 1, 0, 0));          // b0 b0 r1 r1
+            const __m128 g1b1 = _mm_shuffle_ps(rg_lo, b, _MM_SHUFFLE(1, 1, 3, 3));      // g1 g1 b1 b1
+            const __m128 b2r3 = _mm_shuffle_ps(b, rg_hi, _MM_SHUFFLE(2, 2, 2, 2));      // b2 b2 r3 r3
+            const __m128 g3b3 = _mm_shuffle_ps(rg_hi, b, _MM_SHUFFLE(3, 3, 3, 3));      // g3 g3 b3 b3
+            _mm_storeu_ps(dst, _mm_shuffle_ps(rg_lo, b0r1, _MM_SHUFFLE(2, 0, 1, 0)));    // r0 g0 b0 r1
+            _mm_storeu_ps(dst + 4, _mm_shuffle_ps(g1b1, rg_hi, _MM_SHUFFLE(1, 0, 2, 0)));  // g1 b1 r2 g2
+            _mm_storeu_ps(dst + 8, _mm_shuffle_ps(b2r3, g3b3, _MM_SHUFFLE(2, 0, 2, 0)));   // b2 r3 g3 b3
+        }
+        return;
+    }
+#endif
+    for (int i = 0; i < n; ++i, dst += 3) dst[0] = c.r[i], dst[1] = c.g[i], dst[2] = c.b[i];
+}
+
+}  // namespace
+
 void render_rows(const Kernel& k, const PacketScene& scene, int y0, int y1, Image<float>& hdr, Image<float>* display,
                  RenderCounters* counters, std::int32_t* primitive_ids) noexcept {
     RayPacket8 rays;
@@ -81,17 +111,12 @@ void render_rows(const Kernel& k, const PacketScene& scene, int y0, int y1, Imag
             k.shade(scene, rays, hits, radiance);
             const int n = std::min(kPacketWidth, width - x0);
             local.rays += std::uint64_t(n);
-            for (int i = 0; i < n; ++i) {
-                float* px = hdr.pixel(x0 + i, y);
-                px[0] = radiance.r[i], px[1] = radiance.g[i], px[2] = radiance.b[i];
-                if (primitive_ids) primitive_ids[std::size_t(y) * std::size_t(width) + std::size_t(x0 + i)] = hits.primitive[i];
-            }
+            interleave_rgb(radiance, n, hdr.pixel(x0, y));
+            if (primitive_ids)
+                std::copy(hits.primitive, hits.primitive + n, primitive_ids + std::size_t(y) * std::size_t(width) + std::size_t(x0));
             if (display) {
                 k.tonemap(scene, radiance, shown);
-                for (int i = 0; i < n; ++i) {
-                    float* px = display->pixel(x0 + i, y);
-                    px[0] = shown.r[i], px[1] = shown.g[i], px[2] = shown.b[i];
-                }
+                interleave_rgb(shown, n, display->pixel(x0, y));
             }
         }
     }
