@@ -113,11 +113,16 @@ struct Lookup {
     int first;
     bool uniform;
     Lookup(const T& index, const Mask<T>& m) : idx(index), uniform(lane::uniform_on(index, m, first)) {}
+    // Every lane reads element k.
+    static Lookup at_index(int k) { return Lookup(k); }
     T operator()(const Floats& a) const { return uniform ? T(a[std::size_t(first)]) : lane::gather(a.data(), idx); }
     Vec3<T> operator()(const Floats& x, const Floats& y, const Floats& z) const {
         if (uniform) return broadcast3<T>(x, y, z, first);
         return gather3(x, y, z, idx);
     }
+
+  private:
+    explicit Lookup(int k) : idx(T(float(k))), first(k), uniform(true) {}
 };
 
 template <class T>
@@ -567,47 +572,66 @@ inline Closest<T> closest_hit(const PacketScene& s, const Ray<T, P>& r) {
     return best;
 }
 
-// Unit geometric normal at p for the lanes whose hit has compiled id `cid`,
-// with the scene data gathered per lane; lanes of other types are untouched.
-// `d` (the ray direction) breaks ties on box edges.
+// Unit geometric normal of a primitive of type `Type` at p, its data read
+// through `at` (the lanes' indices within the type). `d` (the ray direction)
+// breaks ties on box edges.
+template <PrimitiveType Type, class T>
+inline Vec3<T> type_normal(const PacketScene& s, const Lookup<T>& at, const Vec3<T>& p, const Vec3<T>& d) {
+    if constexpr (Type == PrimitiveType::sphere) {
+        const SphereArrays& a = s.spheres;
+        return (p - at(a.cx, a.cy, a.cz)) * at(a.inv_radius);
+    } else if constexpr (Type == PrimitiveType::plane) {
+        return at(s.planes.nx, s.planes.ny, s.planes.nz);
+    } else if constexpr (Type == PrimitiveType::disk) {
+        return at(s.disks.nx, s.disks.ny, s.disks.nz);
+    } else if constexpr (Type == PrimitiveType::rectangle) {
+        return at(s.rectangles.nx, s.rectangles.ny, s.rectangles.nz);
+    } else if constexpr (Type == PrimitiveType::box) {
+        // The face is the axis where p sits farthest out relative to the
+        // half extent. On an edge or corner (a tie) it is the face the ray
+        // crosses most steeply (largest |d| component; then x, then y): a
+        // ray gliding along one face into an edge enters through the other,
+        // as the reference's deciding slab says.
+        const BoxArrays& a = s.boxes;
+        const Vec3<T> lo = at(a.minx, a.miny, a.minz), hi = at(a.maxx, a.maxy, a.maxz);
+        const Vec3<T> c = (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
+        const Vec3<T> q = p - c;
+        const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
+        const T dx = lane::abs(d.x), dy = lane::abs(d.y), dz = lane::abs(d.z);
+        const Mask<T> ax = (rx > ry || (rx == ry && dx >= dy)) && (rx > rz || (rx == rz && dx >= dz));
+        const Mask<T> ay = lane::not_(ax) && (ry > rz || (ry == rz && dy >= dz)), az = lane::not_(ax || ay);
+        return {lane::select(ax, lane::copysign(T(1), q.x), T(0)), lane::select(ay, lane::copysign(T(1), q.y), T(0)),
+                lane::select(az, lane::copysign(T(1), q.z), T(0))};
+    } else {
+        return at(s.triangles.nx, s.triangles.ny, s.triangles.nz);
+    }
+}
+
+// Unit geometric normal at p for the lanes of `hit`, whose hit has compiled
+// id `cid`; other lanes get an unspecified normal (the caller drops them).
+// A coherent packet's hit lanes mostly share one primitive: then only that
+// type's normal is computed, from its broadcast data; else each type present
+// computes its lanes' normals from gathered data.
 template <class T, unsigned F>
 inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, const Mask<T>& hit, const Vec3<T>& d) {
     Vec3<T> n{T(0), T(0), T(1)};
+    if (!lane::any(hit)) return n;
+    int shared;
+    if (lane::uniform_on(cid, hit, shared)) {
+        for_each_primitive_type<F>(s, [&](auto tag, int count) {
+            constexpr PrimitiveType type = decltype(tag)::value;
+            const int base = s.offset[int(type)];
+            if (shared >= base && shared < base + count)
+                n = type_normal<type>(s, Lookup<T>::at_index(shared - base), p, d);
+        });
+        return n;
+    }
     for_each_primitive_type<F>(s, [&](auto tag, int count) {
         constexpr PrimitiveType type = decltype(tag)::value;
         const int base = s.offset[int(type)];
         const Mask<T> mine = hit && cid >= T(float(base)) && cid < T(float(base + count));
         if (count == 0 || !lane::any(mine)) return;
-        const Lookup<T> at(lane::select(mine, cid - T(float(base)), T(0)), mine);
-        Vec3<T> m;
-        if constexpr (type == PrimitiveType::sphere) {
-            const SphereArrays& a = s.spheres;
-            m = (p - at(a.cx, a.cy, a.cz)) * at(a.inv_radius);
-        } else if constexpr (type == PrimitiveType::plane) {
-            m = at(s.planes.nx, s.planes.ny, s.planes.nz);
-        } else if constexpr (type == PrimitiveType::disk) {
-            m = at(s.disks.nx, s.disks.ny, s.disks.nz);
-        } else if constexpr (type == PrimitiveType::rectangle) {
-            m = at(s.rectangles.nx, s.rectangles.ny, s.rectangles.nz);
-        } else if constexpr (type == PrimitiveType::box) {
-            // The face is the axis where p sits farthest out relative to the
-            // half extent. On an edge or corner (a tie) it is the face the ray
-            // crosses most steeply (largest |d| component; then x, then y): a
-            // ray gliding along one face into an edge enters through the other,
-            // as the reference's deciding slab says.
-            const BoxArrays& a = s.boxes;
-            const Vec3<T> lo = at(a.minx, a.miny, a.minz), hi = at(a.maxx, a.maxy, a.maxz);
-            const Vec3<T> c = (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
-            const Vec3<T> q = p - c;
-            const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
-            const T dx = lane::abs(d.x), dy = lane::abs(d.y), dz = lane::abs(d.z);
-            const Mask<T> ax = (rx > ry || (rx == ry && dx >= dy)) && (rx > rz || (rx == rz && dx >= dz));
-            const Mask<T> ay = lane::not_(ax) && (ry > rz || (ry == rz && dy >= dz)), az = lane::not_(ax || ay);
-            m = {lane::select(ax, lane::copysign(T(1), q.x), T(0)), lane::select(ay, lane::copysign(T(1), q.y), T(0)),
-                 lane::select(az, lane::copysign(T(1), q.z), T(0))};
-        } else {
-            m = at(s.triangles.nx, s.triangles.ny, s.triangles.nz);
-        }
+        const Vec3<T> m = type_normal<type>(s, Lookup<T>(lane::select(mine, cid - T(float(base)), T(0)), mine), p, d);
         n = {lane::select(mine, m.x, n.x), lane::select(mine, m.y, n.y), lane::select(mine, m.z, n.z)};
     });
     return n;
