@@ -537,6 +537,11 @@ OCTRAY_HOT void for_each_candidate(const PacketScene& s, int n, const Ray<T, P>&
         for (int k = 0; k < n; ++k) test(k);
     } else {
         const ClusterTree& tree = s.clusters[std::size_t(Type)];
+        if (tree.size() == 1) {  // one cluster (a scene with few of the type): no walk
+            if (cluster_may_hit(r, tree, 0, tbest))
+                for (int k = 0; k < n; ++k) test(k);
+            return;
+        }
         int stack[64];  // a balanced tree: depth <= 22 for 2^24 primitives
         int top = 0;
         if (tree.size() > 0) stack[top++] = 0;
