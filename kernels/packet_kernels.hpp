@@ -527,7 +527,8 @@ OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterTree& c, int j,
 }
 
 // Calls test(k) for every primitive k of the type that may hit before `tbest`
-// (which `test` may lower as it goes), walking the type's bounding-sphere tree
+// (which `test` may lower, and r.valid narrow, as it goes: any_hit drops
+// blocked lanes, and the walk ends when none is left), walking the type's bounding-sphere tree
 // (planes: all of them). Children are visited left first whatever the rays'
 // direction, so primitives are tested in compiled order, as without the tree:
 // exact-t ties resolve the same way on every path.
@@ -557,6 +558,7 @@ OCTRAY_HOT void for_each_candidate(const PacketScene& s, int n, const Ray<T, P>&
             const int first = tree.cluster[std::size_t(j)] * kClusterSize;
             const int last = first + kClusterSize < n ? first + kClusterSize : n;
             for (int k = first; k < last; ++k) test(k);
+            if (!lane::any(r.valid)) return;  // any_hit: every lane blocked
         }
     }
 }
@@ -676,17 +678,19 @@ int intersect_packet(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
 // ---- any hit (shadow rays) -------------------------------------------------
 template <class T, Precision P, unsigned F>
 inline Mask<T> any_hit(const PacketScene& s, const Ray<T, P>& r) {
-    Mask<T> blocked = lane::not_(r.valid);  // nothing to test on masked lanes
+    // `live.valid`: the valid lanes not blocked yet. The walk culls what none
+    // of them can reach and stops when none is left.
+    Ray<T, P> live = r;
     for_each_primitive_type<F>(s, [&](auto tag, int n) {
         constexpr PrimitiveType type = decltype(tag)::value;
-        if (lane::all(blocked)) return;
-        for_each_candidate<type>(s, n, r, r.tmax, [&](int k) {
+        if (!lane::any(live.valid)) return;
+        for_each_candidate<type>(s, n, live, live.tmax, [&](int k) {
             Mask<T> hit;
-            test_primitive<type, T, P>(s, k, r, hit, r.tmax);
-            blocked = blocked || hit;
+            test_primitive<type, T, P>(s, k, live, hit, live.tmax);
+            live.valid = live.valid && lane::not_(hit);
         });
     });
-    return blocked && r.valid;
+    return r.valid && lane::not_(live.valid);
 }
 
 template <class T, Precision P, unsigned F>

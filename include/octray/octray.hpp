@@ -12,6 +12,7 @@
 #include <octray/image.hpp>
 #include <octray/kernels.hpp>
 #include <octray/lane.hpp>
+#include <octray/lane_pow.hpp>
 #include <octray/packet.hpp>
 #include <octray/packet_scene.hpp>
 #include <octray/precision.hpp>
