@@ -285,7 +285,44 @@ __attribute__((target("avx2,fma"))) float fma_chains_n(std::int64_t reps) {
     return out[0] + out[1] + out[2] + out[3] + out[4] + out[5] + out[6] + out[7];
 }
 
+template <DividerOp Op>
+__attribute__((target("avx2,fma"))) float divider_chains_8(std::int64_t reps) {
+    __m256 x[8];
+    const __m256 m = _mm256_set1_ps(2.0f);
+#pragma GCC unroll 8
+    for (int c = 0; c < 8; ++c) x[c] = _mm256_set1_ps(1.5f + 0.01f * float(c));
+    for (std::int64_t i = 0; i < reps; ++i) {
+#pragma GCC unroll 8
+        for (int c = 0; c < 8; ++c) x[c] = Op == DividerOp::div ? _mm256_div_ps(m, x[c]) : _mm256_sqrt_ps(x[c]);
+    }
+    __m256 sum = x[0];
+#pragma GCC unroll 8
+    for (int c = 1; c < 8; ++c) sum = _mm256_add_ps(sum, x[c]);
+    return _mm256_cvtss_f32(sum);
+}
+
+template <DividerOp Op>
+__attribute__((target("avx2,fma"))) float divider_chains_1(std::int64_t reps) {
+    __m128 x[8];
+    const __m128 m = _mm_set_ss(2.0f);
+#pragma GCC unroll 8
+    for (int c = 0; c < 8; ++c) x[c] = _mm_set_ss(1.5f + 0.01f * float(c));
+    for (std::int64_t i = 0; i < reps; ++i) {
+#pragma GCC unroll 8
+        for (int c = 0; c < 8; ++c) x[c] = Op == DividerOp::div ? _mm_div_ss(m, x[c]) : _mm_sqrt_ss(x[c]);
+    }
+    __m128 sum = x[0];
+#pragma GCC unroll 8
+    for (int c = 1; c < 8; ++c) sum = _mm_add_ss(sum, x[c]);
+    return _mm_cvtss_f32(sum);
+}
+
 }  // namespace
+
+float divider_chains(DividerOp op, int lanes, std::int64_t reps) {
+    if (op == DividerOp::div) return lanes == 8 ? divider_chains_8<DividerOp::div>(reps) : divider_chains_1<DividerOp::div>(reps);
+    return lanes == 8 ? divider_chains_8<DividerOp::sqrt>(reps) : divider_chains_1<DividerOp::sqrt>(reps);
+}
 
 float fma_chains(int chains, std::int64_t reps) {
     switch (chains) {

@@ -76,6 +76,11 @@ double camera_flops_per_ray(bool orthographic);
 // accumulator chains, `reps` FMAs per chain. Returns a value the caller feeds to
 // DoNotOptimize. Needs AVX2+FMA at run time (simd_supported()).
 float fma_chains(int chains, std::int64_t reps);
+// The divide/sqrt unit, the other limit of exact-precision kernels: `reps`
+// rounds of 8 independent divides (x = m / x) or square roots (x = sqrt(x))
+// on 8-lane registers (lanes == 8) or on single floats (lanes == 1).
+enum class DividerOp { div, sqrt };
+float divider_chains(DividerOp op, int lanes, std::int64_t reps);
 inline constexpr double kFmaChainFlops = 2.0 * 8.0;  // one 8-lane FMA = 16 FLOPs
 // Best of a few short runs of fma_chains(12, ...), in GFLOP/s; computed once.
 double fma_peak_gflops();

@@ -17,6 +17,8 @@
 //   e2e/default/pipeline/PATH                    the four kernels per packet, no image
 //   e2e/default/render_rows_{fast,approx}/PATH   other precision modes
 //   fma_peak/8lanes/chains:C                     sustained FP32 FMA throughput
+//   divider/{div,sqrt}/{8lanes,1lane}            divide / sqrt unit throughput, lane
+//                                                results per second (vdivps ymm vs divss)
 // Every benchmark (except fma_peak) reports items_per_second = rays/s,
 // ns_per_ray, flops_per_ray, GFLOPS and frac_peak (bench_common.hpp).
 #include "bench_common.hpp"
@@ -276,12 +278,29 @@ void bm_fma_peak(benchmark::State& st, int chains) {
     st.counters["chains"] = chains;
 }
 
+// Lane results per second of the divide/sqrt unit (8 independent chains).
+void bm_divider(benchmark::State& st, DividerOp op, int lanes) {
+    if (!simd_supported()) {
+        st.SkipWithError("this CPU lacks AVX2+FMA");
+        return;
+    }
+    constexpr std::int64_t kReps = 1 << 14;
+    for (auto _ : st) benchmark::DoNotOptimize(divider_chains(op, lanes, kReps));
+    st.counters["Glane_results_per_s"] =
+        benchmark::Counter(double(st.iterations()) * 8.0 * lanes * double(kReps) * 1e-9, benchmark::Counter::kIsRate);
+}
+
 std::string path_suffix(Path p) { return std::string("/") + path_name(p); }
 
 void register_all() {
     for (int chains : {1, 4, 8, 12})
         benchmark::RegisterBenchmark(("fma_peak/8lanes/chains:" + std::to_string(chains)).c_str(),
                                      [chains](benchmark::State& st) { bm_fma_peak(st, chains); });
+    for (DividerOp op : {DividerOp::div, DividerOp::sqrt})
+        for (int lanes : {1, 8})
+            benchmark::RegisterBenchmark((std::string("divider/") + (op == DividerOp::div ? "div" : "sqrt") +
+                                          (lanes == 8 ? "/8lanes" : "/1lane")).c_str(),
+                                         [op, lanes](benchmark::State& st) { bm_divider(st, op, lanes); });
     for (Path p : kPaths) {
         benchmark::RegisterBenchmark(("camera/pinhole" + path_suffix(p)).c_str(), [p](benchmark::State& st) { bm_camera(st, false, p); });
         benchmark::RegisterBenchmark(("camera/orthographic" + path_suffix(p)).c_str(), [p](benchmark::State& st) { bm_camera(st, true, p); });
