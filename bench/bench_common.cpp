@@ -285,43 +285,46 @@ __attribute__((target("avx2,fma"))) float fma_chains_n(std::int64_t reps) {
     return out[0] + out[1] + out[2] + out[3] + out[4] + out[5] + out[6] + out[7];
 }
 
-template <DividerOp Op>
-__attribute__((target("avx2,fma"))) float divider_chains_8(std::int64_t reps) {
-    __m256 x[8];
-    const __m256 m = _mm256_set1_ps(2.0f);
-#pragma GCC unroll 8
-    for (int c = 0; c < 8; ++c) x[c] = _mm256_set1_ps(1.5f + 0.01f * float(c));
-    for (std::int64_t i = 0; i < reps; ++i) {
-#pragma GCC unroll 8
-        for (int c = 0; c < 8; ++c) x[c] = Op == DividerOp::div ? _mm256_div_ps(m, x[c]) : _mm256_sqrt_ps(x[c]);
-    }
-    __m256 sum = x[0];
-#pragma GCC unroll 8
-    for (int c = 1; c < 8; ++c) sum = _mm256_add_ps(sum, x[c]);
-    return _mm256_cvtss_f32(sum);
-}
+// One divider operation on a whole ymm register (8 lanes) or on the low
+// float of an xmm register (1 lane: divss, sqrtss).
+struct Ymm {
+    using V = __m256;
+    __attribute__((target("avx2,fma"))) static V set(float x) { return _mm256_set1_ps(x); }
+    __attribute__((target("avx2,fma"))) static V div(V a, V b) { return _mm256_div_ps(a, b); }
+    __attribute__((target("avx2,fma"))) static V sqrt(V a) { return _mm256_sqrt_ps(a); }
+    __attribute__((target("avx2,fma"))) static V add(V a, V b) { return _mm256_add_ps(a, b); }
+    __attribute__((target("avx2,fma"))) static float first(V a) { return _mm256_cvtss_f32(a); }
+};
+struct Ss {
+    using V = __m128;
+    __attribute__((target("avx2,fma"))) static V set(float x) { return _mm_set_ss(x); }
+    __attribute__((target("avx2,fma"))) static V div(V a, V b) { return _mm_div_ss(a, b); }
+    __attribute__((target("avx2,fma"))) static V sqrt(V a) { return _mm_sqrt_ss(a); }
+    __attribute__((target("avx2,fma"))) static V add(V a, V b) { return _mm_add_ss(a, b); }
+    __attribute__((target("avx2,fma"))) static float first(V a) { return _mm_cvtss_f32(a); }
+};
 
-template <DividerOp Op>
-__attribute__((target("avx2,fma"))) float divider_chains_1(std::int64_t reps) {
-    __m128 x[8];
-    const __m128 m = _mm_set_ss(2.0f);
+template <class R, DividerOp Op>
+__attribute__((target("avx2,fma"))) float divider_chains_n(std::int64_t reps) {
+    typename R::V x[8];
+    const typename R::V m = R::set(2.0f);
 #pragma GCC unroll 8
-    for (int c = 0; c < 8; ++c) x[c] = _mm_set_ss(1.5f + 0.01f * float(c));
+    for (int c = 0; c < 8; ++c) x[c] = R::set(1.5f + 0.01f * float(c));
     for (std::int64_t i = 0; i < reps; ++i) {
 #pragma GCC unroll 8
-        for (int c = 0; c < 8; ++c) x[c] = Op == DividerOp::div ? _mm_div_ss(m, x[c]) : _mm_sqrt_ss(x[c]);
+        for (int c = 0; c < 8; ++c) x[c] = Op == DividerOp::div ? R::div(m, x[c]) : R::sqrt(x[c]);
     }
-    __m128 sum = x[0];
+    typename R::V sum = x[0];
 #pragma GCC unroll 8
-    for (int c = 1; c < 8; ++c) sum = _mm_add_ss(sum, x[c]);
-    return _mm_cvtss_f32(sum);
+    for (int c = 1; c < 8; ++c) sum = R::add(sum, x[c]);
+    return R::first(sum);
 }
 
 }  // namespace
 
 float divider_chains(DividerOp op, int lanes, std::int64_t reps) {
-    if (op == DividerOp::div) return lanes == 8 ? divider_chains_8<DividerOp::div>(reps) : divider_chains_1<DividerOp::div>(reps);
-    return lanes == 8 ? divider_chains_8<DividerOp::sqrt>(reps) : divider_chains_1<DividerOp::sqrt>(reps);
+    if (op == DividerOp::div) return lanes == 8 ? divider_chains_n<Ymm, DividerOp::div>(reps) : divider_chains_n<Ss, DividerOp::div>(reps);
+    return lanes == 8 ? divider_chains_n<Ymm, DividerOp::sqrt>(reps) : divider_chains_n<Ss, DividerOp::sqrt>(reps);
 }
 
 float fma_chains(int chains, std::int64_t reps) {
