@@ -572,6 +572,7 @@ inline Closest<T> closest_hit(const PacketScene& s, const Ray<T, P>& r) {
         for_each_candidate<type>(s, n, r, best.t, [&](int k) {
             Mask<T> hit;
             const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
+            if (!lane::any(hit)) return;  // most tests miss on every lane
             best.t = lane::select(hit, t, best.t);
             best.cid = lane::select(hit, T(float(base + k)), best.cid);
         });
