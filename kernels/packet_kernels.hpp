@@ -141,6 +141,8 @@ struct Ray {
     // Per-ray quantities shared by every primitive test (hoisted out of the loops).
     T dd;            // d.d
     T inv_dd;        // 1 / (d.d), IEEE in every precision mode (see finish_ray)
+    T neg_inv_dd;    // -1 / (d.d)
+    T exit_scale;    // -2^-18 d.d: the sphere test's miss-exit margin per unit of |f|^2 + r^2
     T len_d;         // |d| = sqrt(d.d)
     Vec3<T> inv_d;   // 1 / d per axis, +-inf for a zero or subnormal component
     // Projection across the ray for triangles: (v.proj_a, v.proj_b) are v's
@@ -166,6 +168,8 @@ template <unsigned F, class T, Precision P>
 inline void finish_ray(Ray<T, P>& r, const T& dd) {
     r.dd = dd;
     r.inv_dd = T(1) / dd;
+    r.neg_inv_dd = T(0) - r.inv_dd;
+    r.exit_scale = T(-0x1p-18f) * dd;
     r.len_d = lane::sqrt(dd);
     if constexpr ((F & kBox) != 0) {
     auto inv_axis = [](const T& c) {
@@ -272,9 +276,10 @@ OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, con
     // full test would say so too (disc's error is smaller still). NaN or inf
     // (huge coordinates) never exits; a lane's answer is the same either way.
     const T bb = b * b, ac = r.dd * c;
-    if (lane::all(bb - ac < T(-0x1p-18f) * (r.dd * (s2 + r2)))) return {T(0), T(0), T(-1), T(0)};
-    const T b_a = b * r.inv_dd;
-    const Vec3<T> perp = f - r.d * b_a;             // f minus its projection on d
+    if (lane::all(bb - ac < r.exit_scale * (s2 + r2))) return {T(0), T(0), T(-1), T(0)};
+    // f minus its projection on d, one rounding per component (FMA).
+    const T nb_a = b * r.neg_inv_dd;
+    const Vec3<T> perp{lane::fma(r.d.x, nb_a, f.x), lane::fma(r.d.y, nb_a, f.y), lane::fma(r.d.z, nb_a, f.z)};
     // disc = (b^2 - a c) / a^2 = r^2 - |perp|^2: from perp its error is
     // ~u |perp| |f|, small for a ray passing a far sphere, where the
     // textbook b^2 - ac cancels.
@@ -295,12 +300,14 @@ OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, con
     if (lane::any(cancels)) {
         const T r2_lo = lane::fma(radius, radius, T(0) - r2);
         c = lane::select(cancels, norm2_compensated(f, r2, r2_lo), c);
-        const T b2_a = b * b_a;
+        const T b2_a = T(0) - b * nb_a;  // b^2 / a
         disc = lane::select(cancels && b2_a + lane::abs(c) < T(0.5f) * s2, b2_a - c, disc);
     }
     // sqrt(disc) |d| rather than sqrt(disc a): no overflow for long directions.
+    // q = -(b + sign(b) sd), written (-b) - sign(b) sd: the same rounding, and
+    // -b is ready long before sd.
     const T sd = lane::sqrt(lane::max(disc, T(0))) * r.len_d;
-    const T q = T(0) - (b + lane::copysign(sd, b));
+    const T q = (T(0) - b) - lane::with_sign_of(sd, b);
     // Stable pair q/a and c/q: never -b + sqrt(...) with the two nearly equal.
     return {q * r.inv_dd, lane::div<P>(c, q), disc, size2};
 }

@@ -62,6 +62,9 @@ template <class S, class = std::enable_if_t<std::is_floating_point_v<S>>>
 inline S abs(S a) { return std::fabs(a); }
 template <class S, class = std::enable_if_t<std::is_floating_point_v<S>>>
 inline S copysign(S a, S b) { return std::copysign(a, b); }
+// copysign for a >= 0 (or +0): a with b's sign bit, one OR on batches.
+template <class S, class = std::enable_if_t<std::is_floating_point_v<S>>>
+inline S with_sign_of(S a, S b) { return std::copysign(a, b); }
 template <class S, class = std::enable_if_t<std::is_floating_point_v<S>>>
 inline bool isfinite(S a) { return std::isfinite(a); }
 template <class S, class = std::enable_if_t<std::is_floating_point_v<S>>>
@@ -127,6 +130,10 @@ template <class S, class A>
 inline xsimd::batch<S, A> abs(const xsimd::batch<S, A>& a) { return xsimd::abs(a); }
 template <class S, class A>
 inline xsimd::batch<S, A> copysign(const xsimd::batch<S, A>& a, const xsimd::batch<S, A>& b) { return xsimd::copysign(a, b); }
+template <class S, class A>
+inline xsimd::batch<S, A> with_sign_of(const xsimd::batch<S, A>& a, const xsimd::batch<S, A>& b) {
+    return a | (b & xsimd::batch<S, A>(S(-0.0)));
+}
 template <class S, class A>
 inline xsimd::batch_bool<S, A> isfinite(const xsimd::batch<S, A>& a) { return xsimd::isfinite(a); }
 template <class S, class A>
