@@ -57,9 +57,10 @@ int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp
     const Ray<T, P> r = load_ray<T, P, kSphere>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best, [&](int k) {
+    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best);
+        if (!lane::any(hit)) return;
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     });
@@ -75,9 +76,10 @@ int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
     const Ray<T, P> r = load_ray<T, P, kPlane>(rp, 0, masked);
     const PlaneArrays& a = s.planes;
     T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best, [&](int k) {
+    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = plane_t(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best);
+        if (!lane::any(hit)) return;
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     });
@@ -93,15 +95,17 @@ int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPack
     const SphereArrays& a = s.spheres;
     const PlaneArrays& b = s.planes;
     T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best, [&](int k) {
+    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best);
+        if (!lane::any(hit)) return;
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     });
-    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best, [&](int k) {
+    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = plane_t(r, broadcast3<T>(b.px, b.py, b.pz, k), broadcast3<T>(b.nx, b.ny, b.nz, k), hit, best);
+        if (!lane::any(hit)) return;
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(s.offset[1] + k)), cid);
     });
@@ -124,10 +128,11 @@ int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& 
     const Ray<T, P> r = load_ray<T, P, kTriangle>(rp, 0, masked);
     const TriangleArrays& a = s.triangles;
     T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::triangle>(s, s.count[5], r, best, [&](int k) {
+    for_each_candidate<PrimitiveType::triangle>(s, s.count[5], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = triangle_t(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
                                broadcast3<T>(a.x2, a.y2, a.z2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best);
+        if (!lane::any(hit)) return;
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     });
@@ -142,9 +147,10 @@ int intersect_boxes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) 
     const Ray<T, P> r = load_ray<T, P, kBox>(rp, 0, masked);
     const BoxArrays& a = s.boxes;
     T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::box>(s, s.count[4], r, best, [&](int k) {
+    for_each_candidate<PrimitiveType::box>(s, s.count[4], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = box_t(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit, best);
+        if (!lane::any(hit)) return;
         best = lane::select(hit, t, best);
         cid = lane::select(hit, T(float(k)), cid);
     });

@@ -45,6 +45,9 @@
 #ifndef OCTRAY_HOT
 #define OCTRAY_HOT inline __attribute__((always_inline))
 #define OCTRAY_COLD __attribute__((noinline, cold))
+// The per-primitive lambdas handed to for_each_candidate: left to the
+// inliner, a translation unit may keep one out of line, a call per test.
+#define OCTRAY_HOT_LAMBDA __attribute__((always_inline))
 #endif
 
 namespace octray::kernels::OCTRAY_ISA {
@@ -576,7 +579,7 @@ inline Closest<T> closest_hit(const PacketScene& s, const Ray<T, P>& r) {
     for_each_primitive_type<F>(s, [&](auto tag, int n) {
         constexpr PrimitiveType type = decltype(tag)::value;
         const int base = s.offset[int(type)];
-        for_each_candidate<type>(s, n, r, best.t, [&](int k) {
+        for_each_candidate<type>(s, n, r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
             Mask<T> hit;
             const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
             if (!lane::any(hit)) return;  // most tests miss on every lane
@@ -692,7 +695,7 @@ inline Mask<T> any_hit(const PacketScene& s, const Ray<T, P>& r) {
     for_each_primitive_type<F>(s, [&](auto tag, int n) {
         constexpr PrimitiveType type = decltype(tag)::value;
         if (!lane::any(live.valid)) return;
-        for_each_candidate<type>(s, n, live, live.tmax, [&](int k) {
+        for_each_candidate<type>(s, n, live, live.tmax, [&](int k) OCTRAY_HOT_LAMBDA {
             Mask<T> hit;
             test_primitive<type, T, P>(s, k, live, hit, live.tmax);
             live.valid = live.valid && lane::not_(hit);
