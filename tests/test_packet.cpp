@@ -432,7 +432,7 @@ TEST_CASE("sampled feature variants agree with the reference (each variant on a 
 
 TEST_CASE("cluster culling: scenes of hundreds of primitives agree with the reference, and the paths bit for bit") {
     // Many primitives of every type, scattered, so packets skip most clusters
-    // (bounding spheres of 8) and test a few: culling must change no lane.
+    // (bounding-sphere tree) and test a few: culling must change no lane.
     std::mt19937 rng(2024);
     auto u = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
     Scene s;
@@ -458,9 +458,10 @@ TEST_CASE("cluster culling: scenes of hundreds of primitives agree with the refe
         s.objects.push_back(Object{shape, i % 2});
     }
     const PacketScene ps = compile(s);
-    // 80 spheres: 10 clusters of 8, the leaves of a tree of 19 nodes.
-    CHECK(ps.clusters[0].size() == 19);
-    CHECK(std::count_if(ps.clusters[0].cluster.begin(), ps.clusters[0].cluster.end(), [](int c) { return c >= 0; }) == 10);
+    // 80 spheres: clusters of kClusterSize, the leaves of a binary tree.
+    const int leaves = (80 + kClusterSize - 1) / kClusterSize;
+    CHECK(ps.clusters[0].size() == 2 * leaves - 1);
+    CHECK(std::count_if(ps.clusters[0].cluster.begin(), ps.clusters[0].cluster.end(), [](int c) { return c >= 0; }) == leaves);
     const ReferenceRender ref = render_reference(s);
     PacketRender out[2];
     for (Path path : {Path::scalar, Path::simd}) {
