@@ -35,6 +35,7 @@
 #include <octray/packet_scene.hpp>
 #include <octray/vec3.hpp>
 
+#include <cassert>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
@@ -536,12 +537,12 @@ OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterTree& c, int j,
     return lane::any(r.valid && lane::not_(line_misses || behind || beyond));
 }
 
-// Calls test(k) for every primitive k of the type that may hit before `tbest`
-// (which `test` may lower, and r.valid narrow, as it goes: any_hit drops
-// blocked lanes, and the walk ends when none is left), walking the type's bounding-sphere tree
-// (planes: all of them). Children are visited left first whatever the rays'
-// direction, so primitives are tested in compiled order, as without the tree:
-// exact-t ties resolve the same way on every path.
+// Calls test(k) for every primitive k of the type that may hit before `tbest`,
+// walking the type's bounding-sphere tree (planes: all of them). `test` may
+// lower tbest and narrow r.valid as it goes (any_hit drops blocked lanes; the
+// walk ends when none is left). Children are visited left first whatever the
+// rays' direction, so primitives are tested in compiled order, as without the
+// tree: exact-t ties resolve the same way on every path.
 template <PrimitiveType Type, class T, Precision P, class Test>
 OCTRAY_HOT void for_each_candidate(const PacketScene& s, int n, const Ray<T, P>& r, const T& tbest, Test&& test) {
     if constexpr (Type == PrimitiveType::plane) {
@@ -561,6 +562,7 @@ OCTRAY_HOT void for_each_candidate(const PacketScene& s, int n, const Ray<T, P>&
             if (!cluster_may_hit(r, tree, j, tbest)) continue;
             const int right = tree.right[std::size_t(j)];
             if (right >= 0) {
+                assert(top + 2 <= 64 && "deeper than a balanced tree of 2^24 primitives");
                 stack[top++] = right;
                 stack[top++] = j + 1;
                 continue;
