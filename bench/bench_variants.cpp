@@ -35,7 +35,8 @@ using M = lane::Mask<T>;
 
 // ---- hand-written pieces ------------------------------------------------------
 // Stores a closest hit whose geometric normal `n` the caller computed.
-void store_hit(const PacketScene& s, const Ray<T, P>& r, const T& t, const T& cid, Vec3<T> n, HitPacket8& hp) {
+void store_hit(const PacketScene& s, const Ray<T, P>& r, const Closest<T>& best, Vec3<T> n, HitPacket8& hp) {
+    const T &t = best.t, &cid = best.cid;
     const M hit = r.valid && cid >= T(0);
     const T k = lane::select(hit, cid, T(0));
     const M away = fdot(n, r.d) > T(0);
@@ -51,22 +52,26 @@ void store_hit(const PacketScene& s, const Ray<T, P>& r, const T& t, const T& ci
     store_mask<T>(hp.invalid, 0, r.invalid);
 }
 
+// The hit lanes' data of a single-type scene, read at compiled id = index.
+Lookup<T> hit_lookup(const Closest<T>& best) {
+    const M hit = best.cid >= T(0);
+    return Lookup<T>(lane::select(hit, best.cid, T(0)), hit);
+}
+
 // Spheres only; compiled id k = sphere k.
 int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P, kSphere>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
-    T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
+    Closest<T> best{r.tmax, T(-1)};
+    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best);
-        if (!lane::any(hit)) return;
-        best = lane::select(hit, t, best);
-        cid = lane::select(hit, T(float(k)), cid);
+        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
+        best.take(hit, t, k);
     });
-    const Lookup<T> at(lane::select(cid >= T(0), cid, T(0)), cid >= T(0));
-    const Vec3<T> p = r.o + r.d * best;
-    store_hit(s, r, best, cid, (p - at(a.cx, a.cy, a.cz)) * at(a.inv_radius), hp);
+    const Lookup<T> at = hit_lookup(best);
+    const Vec3<T> p = r.o + r.d * best.t;
+    store_hit(s, r, best, (p - at(a.cx, a.cy, a.cz)) * at(a.inv_radius), hp);
     return masked;
 }
 
@@ -75,16 +80,14 @@ int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P, kPlane>(rp, 0, masked);
     const PlaneArrays& a = s.planes;
-    T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
+    Closest<T> best{r.tmax, T(-1)};
+    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = plane_t(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best);
-        if (!lane::any(hit)) return;
-        best = lane::select(hit, t, best);
-        cid = lane::select(hit, T(float(k)), cid);
+        const T t = plane_t(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
+        best.take(hit, t, k);
     });
-    const Lookup<T> at(lane::select(cid >= T(0), cid, T(0)), cid >= T(0));
-    store_hit(s, r, best, cid, at(a.nx, a.ny, a.nz), hp);
+    const Lookup<T> at = hit_lookup(best);
+    store_hit(s, r, best, at(a.nx, a.ny, a.nz), hp);
     return masked;
 }
 
@@ -94,29 +97,26 @@ int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPack
     const Ray<T, P> r = load_ray<T, P, kSphere | kPlane>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     const PlaneArrays& b = s.planes;
-    T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
+    Closest<T> best{r.tmax, T(-1)};
+    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best);
-        if (!lane::any(hit)) return;
-        best = lane::select(hit, t, best);
-        cid = lane::select(hit, T(float(k)), cid);
+        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
+        best.take(hit, t, k);
     });
-    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = plane_t(r, broadcast3<T>(b.px, b.py, b.pz, k), broadcast3<T>(b.nx, b.ny, b.nz, k), hit, best);
-        if (!lane::any(hit)) return;
-        best = lane::select(hit, t, best);
-        cid = lane::select(hit, T(float(s.offset[1] + k)), cid);
+        const T t = plane_t(r, broadcast3<T>(b.px, b.py, b.pz, k), broadcast3<T>(b.nx, b.ny, b.nz, k), hit, best.t);
+        best.take(hit, t, s.offset[1] + k);
     });
+    const T& cid = best.cid;
     const M is_sphere = cid >= T(0) && cid < T(float(s.count[0]));
     const M is_plane = cid >= T(float(s.offset[1]));
     const Lookup<T> sphere_at(lane::select(is_sphere, cid, T(0)), is_sphere);
     const Lookup<T> plane_at(lane::select(is_plane, cid - T(float(s.offset[1])), T(0)), is_plane);
-    const Vec3<T> p = r.o + r.d * best;
+    const Vec3<T> p = r.o + r.d * best.t;
     const Vec3<T> ns = (p - sphere_at(a.cx, a.cy, a.cz)) * sphere_at(a.inv_radius);
     const Vec3<T> np = plane_at(b.nx, b.ny, b.nz);
-    store_hit(s, r, best, cid,
+    store_hit(s, r, best,
               {lane::select(is_sphere, ns.x, np.x), lane::select(is_sphere, ns.y, np.y), lane::select(is_sphere, ns.z, np.z)},
               hp);
     return masked;
@@ -127,17 +127,15 @@ int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& 
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P, kTriangle>(rp, 0, masked);
     const TriangleArrays& a = s.triangles;
-    T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::triangle>(s, s.count[5], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
+    Closest<T> best{r.tmax, T(-1)};
+    for_each_candidate<PrimitiveType::triangle>(s, s.count[5], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = triangle_t(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
-                               broadcast3<T>(a.x2, a.y2, a.z2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best);
-        if (!lane::any(hit)) return;
-        best = lane::select(hit, t, best);
-        cid = lane::select(hit, T(float(k)), cid);
+                               broadcast3<T>(a.x2, a.y2, a.z2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
+        best.take(hit, t, k);
     });
-    const Lookup<T> at(lane::select(cid >= T(0), cid, T(0)), cid >= T(0));
-    store_hit(s, r, best, cid, at(a.nx, a.ny, a.nz), hp);
+    const Lookup<T> at = hit_lookup(best);
+    store_hit(s, r, best, at(a.nx, a.ny, a.nz), hp);
     return masked;
 }
 
@@ -146,20 +144,18 @@ int intersect_boxes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) 
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P, kBox>(rp, 0, masked);
     const BoxArrays& a = s.boxes;
-    T best = r.tmax, cid(-1);
-    for_each_candidate<PrimitiveType::box>(s, s.count[4], r, best, [&](int k) OCTRAY_HOT_LAMBDA {
+    Closest<T> best{r.tmax, T(-1)};
+    for_each_candidate<PrimitiveType::box>(s, s.count[4], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = box_t(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit, best);
-        if (!lane::any(hit)) return;
-        best = lane::select(hit, t, best);
-        cid = lane::select(hit, T(float(k)), cid);
+        const T t = box_t(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit, best.t);
+        best.take(hit, t, k);
     });
-    const Lookup<T> at(lane::select(cid >= T(0), cid, T(0)), cid >= T(0));
+    const Lookup<T> at = hit_lookup(best);
     const Vec3<T> lo = at(a.minx, a.miny, a.minz), hi = at(a.maxx, a.maxy, a.maxz);
-    const Vec3<T> q = r.o + r.d * best - (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
+    const Vec3<T> q = r.o + r.d * best.t - (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
     const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
     const M ax = rx >= ry && rx >= rz, ay = lane::not_(ax) && ry >= rz, az = lane::not_(ax || ay);
-    store_hit(s, r, best, cid,
+    store_hit(s, r, best,
               {lane::select(ax, lane::copysign(T(1), q.x), T(0)), lane::select(ay, lane::copysign(T(1), q.y), T(0)),
                lane::select(az, lane::copysign(T(1), q.z), T(0))},
               hp);

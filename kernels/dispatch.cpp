@@ -5,10 +5,10 @@
 #include <octray/kernels.hpp>
 
 #include <algorithm>
+#include <cmath>
 #if defined(__SSE2__)
 #include <immintrin.h>
 #endif
-#include <cmath>
 
 namespace octray {
 

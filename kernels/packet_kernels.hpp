@@ -467,6 +467,13 @@ template <class T>
 struct Closest {
     T t;    // tmax until something is hit
     T cid;  // compiled id of the hit primitive (exact float), -1 on a miss
+
+    // Keeps the lanes of `hit` (a test accepted them for t' < t) at t' and id.
+    OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id) {
+        if (!lane::any(hit)) return;  // most tests miss on every lane
+        t = lane::select(hit, t_hit, t);
+        cid = lane::select(hit, T(float(id)), cid);
+    }
 };
 
 template <PrimitiveType Type>
@@ -584,9 +591,7 @@ inline Closest<T> closest_hit(const PacketScene& s, const Ray<T, P>& r) {
         for_each_candidate<type>(s, n, r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
             Mask<T> hit;
             const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
-            if (!lane::any(hit)) return;  // most tests miss on every lane
-            best.t = lane::select(hit, t, best.t);
-            best.cid = lane::select(hit, T(float(base + k)), best.cid);
+            best.take(hit, t, base + k);
         });
     });
     return best;
