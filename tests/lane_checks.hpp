@@ -28,14 +28,19 @@ void check_min_max_nan_rule() {
     CHECK(lane::max(B(1.0f), B(2.0f)).get(0) == 2.0f);
 }
 
+// A fixed-seed linear congruential generator (no <random>: see above).
+struct Lcg {
+    std::uint32_t state;
+    std::uint32_t operator()() { return (state = state * 1664525u + 1013904223u) >> 8; }
+};
+
 // uniform_on: true iff the lanes of the mask share one index (then `value` is
 // it); lanes off the mask never matter.
 template <class B>
 void check_uniform_on() {
     using BB = typename B::batch_bool_type;
     constexpr std::size_t n = B::size;
-    std::uint32_t state = 7;
-    auto rng = [&state] { return (state = state * 1664525u + 1013904223u) >> 8; };
+    Lcg rng{7};
     for (int trial = 0; trial < 4000; ++trial) {
         alignas(64) float idx[n];
         alignas(64) float on[n];
@@ -51,6 +56,33 @@ void check_uniform_on() {
         const BB mask = B::load_aligned(on) != B(0.0f);
         CHECK(lane::uniform_on(B::load_aligned(idx), mask, value) == want);
         if (want && first >= 0) CHECK(value == first);
+    }
+}
+
+// bits, hmin, hmax, lane0 against a loop over the lanes.
+template <class B>
+void check_horizontal() {
+    constexpr std::size_t n = B::size;
+    Lcg rng{11};
+    for (int trial = 0; trial < 2000; ++trial) {
+        alignas(64) float v[n];
+        alignas(64) float on[n];
+        unsigned want_bits = 0;
+        float lo = INFINITY, hi = -INFINITY;
+        for (std::size_t i = 0; i < n; ++i) {
+            v[i] = float(int(rng() % 2001) - 1000) / 8.0f;
+            on[i] = rng() % 3 != 0 ? 1.0f : 0.0f;
+            lo = v[i] < lo ? v[i] : lo, hi = v[i] > hi ? v[i] : hi;
+            if (on[i] != 0) want_bits |= 1u << i;
+        }
+        const B x = B::load_aligned(v);
+        const auto mask = B::load_aligned(on) != B(0.0f);
+        CHECK(lane::bits(mask) == want_bits);
+        CHECK(lane::lane0(x) == v[0]);
+        for (std::size_t i = 0; i < n; ++i) {
+            CHECK(lane::hmin(x).get(i) == lo);
+            CHECK(lane::hmax(x).get(i) == hi);
+        }
     }
 }
 

@@ -20,6 +20,13 @@ TEST_CASE("lane::uniform_on finds one index shared by the masked lanes, ignoring
     test::check_uniform_on<xsimd::batch<float>>();
 }
 
+TEST_CASE("lane::bits, hmin, hmax and lane0 agree with a loop over the lanes") {
+    CHECK(lane::bits(true) == 1u);
+    CHECK(lane::hmax(3.0f) == 3.0f);
+    test::check_horizontal<xsimd::batch<float>>();
+    test::check_horizontal<xsimd::batch<double>>();
+}
+
 TEST_CASE("the same lane checks at AVX2 (lane.hpp's intrinsic paths)") {
     if (!test::avx2_lane_checks()) MESSAGE("this CPU has no AVX2: skipped");
 }

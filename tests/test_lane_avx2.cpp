@@ -8,6 +8,7 @@ bool avx2_lane_checks() {
     using B = xsimd::batch<float, xsimd::fma3<xsimd::avx2>>;
     check_min_max_nan_rule<B>();
     check_uniform_on<B>();
+    check_horizontal<B>();
     return true;
 }
 

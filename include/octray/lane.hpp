@@ -96,6 +96,16 @@ inline double gather(const float* base, double index) { return double(base[long(
 // then worth 8 gathered ones. One lane always agrees with itself.
 inline bool uniform_on(float index, bool, int& value) { value = int(index); return true; }
 inline bool uniform_on(double index, bool, int& value) { value = int(index); return true; }
+// Lane bits of a mask (bit i: lane i); every lane's value set to the lowest
+// (hmin) or highest (hmax) over the lanes; lane 0's value (lane0). One lane:
+// the value itself.
+inline unsigned bits(bool m) { return m ? 1u : 0u; }
+template <class S, class = std::enable_if_t<std::is_floating_point_v<S>>>
+inline S hmin(S a) { return a; }
+template <class S, class = std::enable_if_t<std::is_floating_point_v<S>>>
+inline S hmax(S a) { return a; }
+template <class S, class = std::enable_if_t<std::is_floating_point_v<S>>>
+inline S lane0(S a) { return a; }
 
 // ---- SIMD lanes ------------------------------------------------------------
 template <class S, class A>
@@ -271,6 +281,52 @@ inline bool uniform_on(const xsimd::batch<S, A>& index, const xsimd::batch_bool<
     return true;
 }
 
+template <class S, class A>
+inline unsigned bits(const xsimd::batch_bool<S, A>& m) {
+#if defined(__AVX__)
+    if constexpr (std::is_same_v<S, float> && xsimd::batch<S, A>::size == 8) return unsigned(_mm256_movemask_ps(m));
+#endif
+    using B = xsimd::batch<S, A>;
+    alignas(64) S on[B::size];
+    xsimd::select(m, B(S(1)), B(S(0))).store_aligned(on);
+    unsigned b = 0;
+    for (std::size_t i = 0; i < B::size; ++i) b |= unsigned(on[i] != S(0)) << i;
+    return b;
+}
+namespace detail {
+// Every lane set to op over all lanes: log2(width) rotate-and-combine steps.
+template <class S, class A, class Op>
+inline xsimd::batch<S, A> horizontal(const xsimd::batch<S, A>& a, Op op) {
+    using B = xsimd::batch<S, A>;
+#if defined(__AVX__)
+    if constexpr (std::is_same_v<S, float> && B::size == 8) {
+        B v = op(a, B(_mm256_permute2f128_ps(a, a, 1)));
+        v = op(v, B(_mm256_permute_ps(v, 0x4e)));
+        return op(v, B(_mm256_permute_ps(v, 0xb1)));
+    }
+#endif
+    alignas(64) S tmp[B::size];
+    a.store_aligned(tmp);
+    S r = tmp[0];
+    for (std::size_t i = 1; i < B::size; ++i) r = op(r, tmp[i]);
+    return B(r);
+}
+}  // namespace detail
+template <class S, class A>
+inline xsimd::batch<S, A> hmin(const xsimd::batch<S, A>& a) {
+    return detail::horizontal(a, [](const auto& x, const auto& y) { return lane::min(x, y); });
+}
+template <class S, class A>
+inline xsimd::batch<S, A> hmax(const xsimd::batch<S, A>& a) {
+    return detail::horizontal(a, [](const auto& x, const auto& y) { return lane::max(x, y); });
+}
+template <class S, class A>
+inline S lane0(const xsimd::batch<S, A>& v) {
+#if defined(__AVX__)
+    if constexpr (std::is_same_v<S, float> && xsimd::batch<S, A>::size == 8) return _mm256_cvtss_f32(v);
+#endif
+    return v.get(0);
+}
 // Double lanes reading a float scene array.
 template <class A>
 inline xsimd::batch<double, A> gather(const float* base, const xsimd::batch<double, A>& index) {
