@@ -78,25 +78,48 @@ void enclose(const std::vector<Bound>& members, std::size_t first, std::size_t l
     out.radius.push_back(std::nextafter(float(r * (1 + 1e-6)), std::numeric_limits<float>::infinity()));
 }
 
-// Appends the subtree over clusters [first, last) in depth-first order; an
-// inner node's bound encloses its primitives directly (tighter than a sphere
-// around its children's spheres).
-void build_tree(const std::vector<Bound>& members, int first, int last, ClusterTree& out) {
-    const std::size_t node = out.right.size();
-    enclose(members, std::size_t(first) * kClusterSize,
-            std::min(members.size(), std::size_t(last) * kClusterSize), out);
-    out.right.push_back(-1);
-    out.cluster.push_back(last - first == 1 ? first : -1);
-    if (last - first == 1) return;
-    const int mid = first + (last - first) / 2;
-    build_tree(members, first, mid, out);
-    out.right[node] = std::int32_t(out.right.size());
-    build_tree(members, mid, last, out);
+// Node `node` (already appended) spans clusters [first, last): a leaf for one
+// cluster, else the parent of up to kTreeWidth runs of g clusters, g the
+// smallest power of kTreeWidth that needs no more runs; the runs' nodes are
+// appended together, then each is built. A node's bound encloses its
+// primitives directly (tighter than a sphere around its children's spheres).
+void build_node(const std::vector<Bound>& members, std::size_t node, int first, int last, ClusterTree& out) {
+    const int n = last - first;
+    if (n == 1) {
+        out.cluster[node] = first;
+        return;
+    }
+    int g = 1;
+    while (g * kTreeWidth < n) g *= kTreeWidth;
+    const int children = (n + g - 1) / g;
+    const std::size_t first_child = out.first_child.size();
+    out.first_child[node] = std::int32_t(first_child);
+    out.child_count[node] = children;
+    for (int c = 0; c < children; ++c) {
+        enclose(members, std::size_t(first + c * g) * kClusterSize,
+                std::min(members.size(), std::size_t(std::min(first + (c + 1) * g, last)) * kClusterSize), out);
+        out.first_child.push_back(-1), out.child_count.push_back(0), out.cluster.push_back(-1);
+    }
+    for (int c = 0; c < children; ++c)
+        build_node(members, first_child + std::size_t(c), first + c * g, std::min(first + (c + 1) * g, last), out);
 }
 
 void build_clusters(const std::vector<Bound>& members, ClusterTree& out) {
     const int clusters = int((members.size() + kClusterSize - 1) / kClusterSize);
-    if (clusters > 0) build_tree(members, 0, clusters, out);
+    if (clusters == 0) return;
+    enclose(members, 0, members.size(), out);
+    out.first_child.push_back(-1), out.child_count.push_back(0), out.cluster.push_back(-1);
+    build_node(members, 0, 0, clusters, out);
+    for (const Bound& b : members) {
+        const Vec3f c{float(b.center.x), float(b.center.y), float(b.center.z)};
+        const double r = std::sqrt(length_squared(b.center - Vec3d(c))) + b.radius;
+        out.px.push_back(c.x), out.py.push_back(c.y), out.pz.push_back(c.z);
+        out.pradius.push_back(std::nextafter(float(r * (1 + 1e-6)), std::numeric_limits<float>::infinity()));
+    }
+    for (int i = 0; i < kTreeWidth; ++i) {  // padding: a block of children loads whole
+        out.cx.push_back(0), out.cy.push_back(0), out.cz.push_back(0), out.radius.push_back(0);
+        out.px.push_back(0), out.py.push_back(0), out.pz.push_back(0), out.pradius.push_back(0);
+    }
 }
 
 // 30-bit Morton code of a point in [0,1]^3 (10 bits per axis, interleaved).

@@ -66,23 +66,31 @@ struct PacketCamera {
     int width = 0, height = 0;
 };
 
-// A binary tree of bounding spheres over one type's primitives (in compiled,
-// i.e. Morton, order), so a packet skips every region none of its rays comes
-// near. Leaves are clusters of kClusterSize consecutive primitives; an inner
-// node splits its run of clusters in halves. Nodes are stored depth first:
-// node j's left child is j + 1, its right child right[j] (-1 for a leaf, whose
-// cluster is cluster[j]: primitives from cluster[j] * kClusterSize on). Radii
-// are rounded up: every primitive lies inside each node above it.
-// 4: callgrind on the Embree peer's sphere scenes (16, 64, 256 spheres)
-// counts 1291 instructions per packet with leaves of 8, 1068 with 4, 1085
-// with 2 (a node test costs about what one sphere test does); on
-// intersect/{mixed,box,triangle}:256 leaves of 4 run 15-23% fewer than 8.
-inline constexpr int kClusterSize = 4;
+// A tree of bounding spheres over one type's primitives (in compiled, i.e.
+// Morton, order), so a packet skips every region none of its rays comes near.
+// Leaves are clusters of kClusterSize consecutive primitives; an inner node
+// splits its run of clusters into up to kTreeWidth runs of equal length (a
+// power of kTreeWidth clusters each, the last shorter), whose nodes are
+// consecutive: node j's children are first_child[j] .. first_child[j] +
+// child_count[j] - 1 (first_child -1 for a leaf, whose cluster is cluster[j]:
+// primitives from cluster[j] * kClusterSize on). Node 0 is the root. Radii are
+// rounded up: every primitive lies inside each node above it. The node arrays
+// are padded by kTreeWidth entries, so the bounds of a node's children load as
+// one block of kTreeWidth floats.
+// kTreeWidth and kClusterSize 8: one AVX register of children, or of a
+// leaf's primitives, per beam test (packet_kernels.hpp, for_each_candidate).
+// Callgrind against leaves of 4 (instructions per run of intersect_packet):
+// Embree peer spheres:64 18.2M vs 20.5M, spheres:16 16.1M vs 15.5M,
+// intersect/mixed:256 18.1M vs 21.8M, sphere:256_full_tests 119M vs 138M.
+inline constexpr int kClusterSize = 8;
+inline constexpr int kTreeWidth = 8;
 struct ClusterTree {
-    Floats cx, cy, cz, radius;             // per node
-    std::vector<std::int32_t> right;       // right child, -1 for a leaf
-    std::vector<std::int32_t> cluster;     // a leaf's cluster (-1 for an inner node)
-    int size() const { return int(right.size()); }
+    Floats cx, cy, cz, radius;              // per node (then kTreeWidth of padding)
+    std::vector<std::int32_t> first_child;  // -1 for a leaf
+    std::vector<std::int32_t> child_count;  // 0 for a leaf
+    std::vector<std::int32_t> cluster;      // a leaf's cluster (-1 for an inner node)
+    Floats px, py, pz, pradius;             // per primitive, its bounding sphere (then padding)
+    int size() const { return int(first_child.size()); }
 };
 
 struct PacketScene {
