@@ -49,6 +49,7 @@
 // The per-primitive lambdas handed to for_each_candidate: left to the
 // inliner, a translation unit may keep one out of line, a call per test.
 #define OCTRAY_HOT_LAMBDA __attribute__((always_inline))
+#define OCTRAY_WALK __attribute__((noinline))
 #endif
 
 namespace octray::kernels::OCTRAY_ISA {
@@ -635,6 +636,52 @@ OCTRAY_HOT unsigned beam_near(const Beam& b, const Floats& cx, const Floats& cy,
     return near & ((1u << count) - 1u);
 }
 
+// for_each_candidate's walk below the root.
+template <PrimitiveType Type, class T, Precision P, class Test>
+OCTRAY_HOT void walk_tree(const ClusterTree& tree, int n, const Ray<T, P>& r, LazyBeam<T, P>& lazy, Test& test) {
+    const Beam& beam = lazy.get();
+    int stack[64];  // a pop pushes <= kTreeWidth - 1 more per level: 8 levels for 2^24 primitives
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const int j = stack[--top];
+        const int first = tree.first_child[std::size_t(j)];
+        if (first < 0) {
+            const int k0 = tree.cluster[std::size_t(j)] * kClusterSize;
+            const int k1 = k0 + kClusterSize < n ? k0 + kClusterSize : n;
+            for (unsigned near = beam_near(beam, tree.px, tree.py, tree.pz, tree.pradius, k0, k1 - k0); near != 0;
+                 near &= near - 1)
+                test(k0 + __builtin_ctz(near));
+            if (!lane::any(r.valid)) return;  // any_hit: every lane blocked
+            continue;
+        }
+        // Pushed last to first, so they pop in order.
+        for (unsigned near = beam_near(beam, tree.cx, tree.cy, tree.cz, tree.radius, first,
+                                       tree.child_count[std::size_t(j)]);
+             near != 0;) {
+            const int i = 31 - __builtin_clz(near);
+            near &= ~(1u << i);
+            assert(top < 64 && "deeper than a tree of 2^24 primitives");
+            stack[top++] = first + i;
+        }
+    }
+}
+
+// Out of line, for kernels with several bounded primitive types: inline, six
+// walks crowd the small scenes' path (one node per type), where they never
+// run (callgrind, scenes/default.json: +12% instructions in intersect); with
+// one type the walk stays inline (the Embree peer's spheres:64: 10% fewer).
+template <PrimitiveType Type, class T, Precision P, class Test>
+OCTRAY_WALK void walk_tree_out_of_line(const ClusterTree& tree, int n, const Ray<T, P>& r, LazyBeam<T, P>& lazy,
+                                       Test& test) {
+    walk_tree<Type>(tree, n, r, lazy, test);
+}
+
+// Primitive types other than planes (those with a tree) in a feature set.
+inline constexpr int bounded_types(unsigned f) {
+    return __builtin_popcount(f & kAllPrimitives & ~unsigned(kPlane));
+}
+
 // Calls test(k) for every primitive k of the type that may hit before `tbest`,
 // walking the type's bounding-sphere tree (planes: all of them). The root is
 // tested ray by ray (cluster_may_hit, which knows tbest); below it a node's
@@ -642,12 +689,13 @@ OCTRAY_HOT unsigned beam_near(const Beam& b, const Floats& cx, const Floats& cy,
 // vector at a time, and only those it comes near are visited. Ray by ray
 // every node cost about a sphere test; the beam tests 8 for about one
 // (callgrind, the Embree peer's spheres:64 scene: 1574 instructions per
-// packet with the binary tree of per-ray tests, 1082 so). `test` may lower
+// packet with the binary tree of per-ray tests, 1084 so). `test` may lower
 // tbest and narrow r.valid as it goes (any_hit drops blocked lanes; the walk
 // ends when none is left). Children are visited in order whatever the rays'
 // direction, so primitives are tested in compiled order, as without the
-// tree: exact-t ties resolve the same way on every path.
-template <PrimitiveType Type, class T, Precision P, class Test>
+// tree: exact-t ties resolve the same way on every path. F, the kernel's
+// features, decides where the walk is compiled (walk_tree_out_of_line).
+template <PrimitiveType Type, unsigned F = (1u << unsigned(Type)), class T, Precision P, class Test>
 OCTRAY_HOT void for_each_candidate(const PacketScene& s, int n, const Ray<T, P>& r, const T& tbest, LazyBeam<T, P>& lazy,
                                    Test&& test) {
     if constexpr (Type == PrimitiveType::plane) {
@@ -659,32 +707,8 @@ OCTRAY_HOT void for_each_candidate(const PacketScene& s, int n, const Ray<T, P>&
             for (int k = 0; k < n; ++k) test(k);
             return;
         }
-        const Beam& beam = lazy.get();
-        int stack[64];  // a pop pushes <= kTreeWidth - 1 more per level: 8 levels for 2^24 primitives
-        int top = 0;
-        stack[top++] = 0;
-        while (top > 0) {
-            const int j = stack[--top];
-            const int first = tree.first_child[std::size_t(j)];
-            if (first < 0) {
-                const int k0 = tree.cluster[std::size_t(j)] * kClusterSize;
-                const int k1 = k0 + kClusterSize < n ? k0 + kClusterSize : n;
-                for (unsigned near = beam_near(beam, tree.px, tree.py, tree.pz, tree.pradius, k0, k1 - k0); near != 0;
-                     near &= near - 1)
-                    test(k0 + __builtin_ctz(near));
-                if (!lane::any(r.valid)) return;  // any_hit: every lane blocked
-                continue;
-            }
-            // Pushed last to first, so they pop in order.
-            for (unsigned near = beam_near(beam, tree.cx, tree.cy, tree.cz, tree.radius, first,
-                                           tree.child_count[std::size_t(j)]);
-                 near != 0;) {
-                const int i = 31 - __builtin_clz(near);
-                near &= ~(1u << i);
-                assert(top < 64 && "deeper than a tree of 2^24 primitives");
-                stack[top++] = first + i;
-            }
-        }
+        if constexpr (bounded_types(F) > 1) walk_tree_out_of_line<Type>(tree, n, r, lazy, test);
+        else walk_tree<Type>(tree, n, r, lazy, test);
     }
 }
 
@@ -702,7 +726,7 @@ inline Closest<T> closest_hit(const PacketScene& s, const Ray<T, P>& r) {
     for_each_primitive_type<F>(s, [&](auto tag, int n) {
         constexpr PrimitiveType type = decltype(tag)::value;
         const int base = s.offset[int(type)];
-        for_each_candidate<type>(s, n, r, best.t, beam, [&](int k) OCTRAY_HOT_LAMBDA {
+        for_each_candidate<type, F>(s, n, r, best.t, beam, [&](int k) OCTRAY_HOT_LAMBDA {
             Mask<T> hit;
             const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
             best.take(hit, t, base + k);
@@ -817,7 +841,7 @@ inline Mask<T> any_hit(const PacketScene& s, const Ray<T, P>& r) {
     for_each_primitive_type<F>(s, [&](auto tag, int n) {
         constexpr PrimitiveType type = decltype(tag)::value;
         if (!lane::any(live.valid)) return;
-        for_each_candidate<type>(s, n, live, live.tmax, beam, [&](int k) OCTRAY_HOT_LAMBDA {
+        for_each_candidate<type, F>(s, n, live, live.tmax, beam, [&](int k) OCTRAY_HOT_LAMBDA {
             Mask<T> hit;
             test_primitive<type, T, P>(s, k, live, hit, live.tmax);
             live.valid = live.valid && lane::not_(hit);
