@@ -577,7 +577,7 @@ inline Beam make_beam(const Ray<T, P>& r) {
     const float ox = float(lane::lane0(r.o.x)), oy = float(lane::lane0(r.o.y)), oz = float(lane::lane0(r.o.z));
     const float ax = float(lane::lane0(dir.x)), ay = float(lane::lane0(dir.y)), az = float(lane::lane0(dir.z));
     const Vec3<T> axis{T(ax), T(ay), T(az)};
-    const Vec3<T> across{dir.y * axis.z - dir.z * axis.y, dir.z * axis.x - dir.x * axis.z, dir.x * axis.y - dir.y * axis.x};
+    const Vec3<T> across = cross(dir, axis);
     const Vec3<T> off = r.o - Vec3<T>{T(ox), T(oy), T(oz)};  // each component rounded once: relative error u
     const float cos_theta = float(lane::lane0(lane::hmin(lane::select(r.valid, fdot(dir, axis), T(1)))));
     const float sin2_theta = float(lane::lane0(lane::hmax(lane::select(r.valid, fdot(across, across), T(0)))));
@@ -625,7 +625,7 @@ OCTRAY_HOT unsigned beam_near(const Beam& b, const Floats& cx, const Floats& cy,
         const std::size_t at = std::size_t(first + i);
         const Vec3<N> q = Vec3<N>{N::load_unaligned(cx.data() + at), N::load_unaligned(cy.data() + at),
                                   N::load_unaligned(cz.data() + at)} - b.origin;
-        const Vec3<N> x{q.y * b.axis.z - q.z * b.axis.y, q.z * b.axis.x - q.x * b.axis.z, q.x * b.axis.y - q.y * b.axis.x};
+        const Vec3<N> x = cross(q, b.axis);
         const N q_max = lane::max(lane::abs(q.x), lane::max(lane::abs(q.y), lane::abs(q.z)));
         const N reach = N::load_unaligned(radius.data() + at) + b.spread + lane::abs(fdot(q, b.axis)) * b.sin_theta +
                         q_max * N(0x1p-14f);

@@ -61,9 +61,11 @@ std::optional<Bound> bound_of(const Shape& shape) {
         shape);
 }
 
-// The bounding sphere of members [first, last): centred on their bounding
-// box, radius rounded up to a float that contains them all.
-void enclose(const std::vector<Bound>& members, std::size_t first, std::size_t last, ClusterTree& out) {
+// Appends the bounding sphere of members [first, last) to (x, y, z, radius):
+// centred on their bounding box, radius rounded up to a float that contains
+// them all.
+void enclose(const std::vector<Bound>& members, std::size_t first, std::size_t last, Floats& x, Floats& y, Floats& z,
+             Floats& radius) {
     Vec3d lo = members[first].center, hi = lo;
     for (std::size_t i = first; i < last; ++i) {
         const Bound& b = members[i];
@@ -74,8 +76,14 @@ void enclose(const std::vector<Bound>& members, std::size_t first, std::size_t l
     double r = 0;
     for (std::size_t i = first; i < last; ++i)
         r = std::max(r, std::sqrt(length_squared(members[i].center - Vec3d(c))) + members[i].radius);
-    out.cx.push_back(c.x), out.cy.push_back(c.y), out.cz.push_back(c.z);
-    out.radius.push_back(std::nextafter(float(r * (1 + 1e-6)), std::numeric_limits<float>::infinity()));
+    x.push_back(c.x), y.push_back(c.y), z.push_back(c.z);
+    radius.push_back(std::nextafter(float(r * (1 + 1e-6)), std::numeric_limits<float>::infinity()));
+}
+
+// Appends a node (a leaf until build_node says otherwise) around members [first, last).
+void append_node(const std::vector<Bound>& members, std::size_t first, std::size_t last, ClusterTree& out) {
+    enclose(members, first, last, out.cx, out.cy, out.cz, out.radius);
+    out.first_child.push_back(-1), out.child_count.push_back(0), out.cluster.push_back(-1);
 }
 
 // Node `node` (already appended) spans clusters [first, last): a leaf for one
@@ -95,11 +103,9 @@ void build_node(const std::vector<Bound>& members, std::size_t node, int first, 
     const std::size_t first_child = out.first_child.size();
     out.first_child[node] = std::int32_t(first_child);
     out.child_count[node] = children;
-    for (int c = 0; c < children; ++c) {
-        enclose(members, std::size_t(first + c * g) * kClusterSize,
-                std::min(members.size(), std::size_t(std::min(first + (c + 1) * g, last)) * kClusterSize), out);
-        out.first_child.push_back(-1), out.child_count.push_back(0), out.cluster.push_back(-1);
-    }
+    for (int c = 0; c < children; ++c)
+        append_node(members, std::size_t(first + c * g) * kClusterSize,
+                    std::min(members.size(), std::size_t(std::min(first + (c + 1) * g, last)) * kClusterSize), out);
     for (int c = 0; c < children; ++c)
         build_node(members, first_child + std::size_t(c), first + c * g, std::min(first + (c + 1) * g, last), out);
 }
@@ -107,19 +113,12 @@ void build_node(const std::vector<Bound>& members, std::size_t node, int first, 
 void build_clusters(const std::vector<Bound>& members, ClusterTree& out) {
     const int clusters = int((members.size() + kClusterSize - 1) / kClusterSize);
     if (clusters == 0) return;
-    enclose(members, 0, members.size(), out);
-    out.first_child.push_back(-1), out.child_count.push_back(0), out.cluster.push_back(-1);
+    append_node(members, 0, members.size(), out);
     build_node(members, 0, 0, clusters, out);
-    for (const Bound& b : members) {
-        const Vec3f c{float(b.center.x), float(b.center.y), float(b.center.z)};
-        const double r = std::sqrt(length_squared(b.center - Vec3d(c))) + b.radius;
-        out.px.push_back(c.x), out.py.push_back(c.y), out.pz.push_back(c.z);
-        out.pradius.push_back(std::nextafter(float(r * (1 + 1e-6)), std::numeric_limits<float>::infinity()));
-    }
-    for (int i = 0; i < kTreeWidth; ++i) {  // padding: a block of children loads whole
-        out.cx.push_back(0), out.cy.push_back(0), out.cz.push_back(0), out.radius.push_back(0);
-        out.px.push_back(0), out.py.push_back(0), out.pz.push_back(0), out.pradius.push_back(0);
-    }
+    for (std::size_t i = 0; i < members.size(); ++i) enclose(members, i, i + 1, out.px, out.py, out.pz, out.pradius);
+    // Padding: a block of kTreeWidth children (or primitives) loads whole.
+    for (Floats* a : {&out.cx, &out.cy, &out.cz, &out.radius, &out.px, &out.py, &out.pz, &out.pradius})
+        a->insert(a->end(), kTreeWidth, 0.0f);
 }
 
 // 30-bit Morton code of a point in [0,1]^3 (10 bits per axis, interleaved).
