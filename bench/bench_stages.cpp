@@ -117,10 +117,7 @@ void bm_intersect(benchmark::State& st, Layout layout, int n, Path path) {
 void time_unculled(benchmark::State& st, const Fixture& f, Path path) {
     if (!check(st, f)) return;
     PacketScene all = f.scene;
-    for (ClusterTree& c : all.clusters) {
-        std::fill(c.radius.begin(), c.radius.end(), INFINITY);
-        std::fill(c.pradius.begin(), c.pradius.end(), INFINITY);
-    }
+    for (ClusterTree& c : all.clusters) c.disable_culling();
     time_intersect(st, select_kernel(all, path), all, f.rays);
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }

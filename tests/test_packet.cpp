@@ -507,10 +507,7 @@ TEST_CASE("cluster culling: scenes of hundreds of primitives agree with the refe
     // The tree only skips work: with every bound infinite (nothing culled,
     // every primitive tested in compiled order) the image is the same, bit for bit.
     PacketScene unculled = ps;
-    for (ClusterTree& c : unculled.clusters) {
-        std::fill(c.radius.begin(), c.radius.end(), INFINITY);
-        std::fill(c.pradius.begin(), c.pradius.end(), INFINITY);
-    }
+    for (ClusterTree& c : unculled.clusters) c.disable_culling();
     for (Path path : {Path::scalar, Path::simd}) {
         const PacketRender all = render_packet(select_kernel(unculled, path), unculled);
         CHECK(all.radiance.rgb == out[int(path)].radiance.rgb);
@@ -578,10 +575,7 @@ TEST_CASE("the packet beam skips only what no ray of the packet could hit: bundl
     const PacketScene culled = compile(s);
     REQUIRE(culled.clusters[0].size() > 1 + kTreeWidth);  // more than one level of inner nodes
     PacketScene unculled = culled;
-    for (ClusterTree& c : unculled.clusters) {
-        std::fill(c.radius.begin(), c.radius.end(), INFINITY);
-        std::fill(c.pradius.begin(), c.pradius.end(), INFINITY);
-    }
+    for (ClusterTree& c : unculled.clusters) c.disable_culling();
     RandomRays rays(5);
     const double origin_spread[] = {0, 1e-3, 0.1, 3};
     const double angle_spread[] = {0, 1e-3, 0.05, 0.5, 2};

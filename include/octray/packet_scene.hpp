@@ -15,10 +15,12 @@
 #include <octray/features.hpp>
 #include <octray/scene.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
 #include <new>
 #include <vector>
 
@@ -91,6 +93,11 @@ struct ClusterTree {
     std::vector<std::int32_t> cluster;      // a leaf's cluster (-1 for an inner node)
     Floats px, py, pz, pradius;             // per primitive, its bounding sphere (then padding)
     int size() const { return int(first_child.size()); }
+    // Every bound infinite: the walk then skips nothing and tests every
+    // primitive in compiled order (tests and benchmarks compare against it).
+    void disable_culling() {
+        for (Floats* r : {&radius, &pradius}) std::fill(r->begin(), r->end(), std::numeric_limits<float>::infinity());
+    }
 };
 
 struct PacketScene {
