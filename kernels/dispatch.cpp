@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 #if defined(__SSE2__)
 #include <immintrin.h>
 #endif
@@ -29,10 +30,9 @@ bool always() { return true; }
 }  // namespace
 
 const Unit kUnits[] = {
-    {Path::simd, "avx512", &avx512_supported, &simd_avx512_kernel, &simd_avx512_blocks,
-     kAvx512Modes | mode_bit(Precision::f64)},
+    {Path::simd, "avx512", &avx512_supported, &simd_avx512_kernel, &simd_avx512_blocks, kAvx512UnitModes},
     {Path::simd, "avx2", &simd_supported, &simd_avx2_kernel, &simd_avx2_blocks, kBaseModes},
-    {Path::scalar, "avx512", &avx512_supported, &scalar_avx512_kernel, &scalar_avx512_blocks, kAvx512Modes},
+    {Path::scalar, "avx512", &avx512_supported, &scalar_avx512_kernel, &scalar_avx512_blocks, kAvx512UnitModes},
     {Path::scalar, "avx2", &simd_supported, &scalar_avx2_kernel, &scalar_avx2_blocks, kBaseModes},
     {Path::scalar, "generic", &always, &scalar_generic_kernel, &scalar_generic_blocks, kBaseModes},
 };
@@ -42,28 +42,35 @@ const int kUnitCount = int(sizeof kUnits / sizeof kUnits[0]);
 
 namespace {
 
-Kernel make(Path path, Precision precision, unsigned primitive_bits, unsigned light_bits) {
+Kernel make(Path path, Precision precision, unsigned primitive_bits, unsigned light_bits, Isa isa) {
     // Without AVX-512 the 14-bit-estimate modes become `fast` (Kernel::precision
     // says so): within approx14's stated bounds, and fast14's to a factor 2.
     if (!precision_supported(precision)) precision = Precision::fast;
     // Without AVX2 the SIMD path becomes the baseline scalar one (Kernel::isa "generic").
     if (!simd_supported()) path = Path::scalar;
-    for (int i = 0; i < kernels::kUnitCount; ++i) {
-        const kernels::Unit& u = kernels::kUnits[i];
-        if (u.path == path && (u.modes & kernels::mode_bit(precision)) != 0 && u.supported())
-            return u.kernel(precision, primitive_bits, light_bits);
+    // The asked ISA if this CPU runs it and it compiles the mode (generic:
+    // the scalar path only); else the best.
+    for (const bool pinned : {isa != Isa::best, false}) {
+        for (int i = 0; i < kernels::kUnitCount; ++i) {
+            const kernels::Unit& u = kernels::kUnits[i];
+            if (u.path == path && (u.modes & kernels::mode_bit(precision)) != 0 && u.supported() &&
+                (!pinned || std::string_view(u.isa) == isa_name(isa)))
+                return u.kernel(precision, primitive_bits, light_bits);
+        }
     }
     return kernels::scalar_generic_kernel(Precision::exact, kAllFeatures, kAllFeatures);  // not reached
 }
 
 }  // namespace
 
-Kernel select_kernel(const PacketScene& scene, Path path, Precision precision) {
+Kernel select_kernel(const PacketScene& scene, Path path, Precision precision, Isa isa) {
     const unsigned bits = scene.features.bits;
-    return make(path, precision, bits & kAllPrimitives, bits & ~kAllPrimitives);
+    return make(path, precision, bits & kAllPrimitives, bits & ~kAllPrimitives, isa);
 }
 
-Kernel general_kernel(Path path, Precision precision) { return make(path, precision, kAllFeatures, kAllFeatures); }
+Kernel general_kernel(Path path, Precision precision, Isa isa) {
+    return make(path, precision, kAllFeatures, kAllFeatures, isa);
+}
 
 std::string Kernel::name() const {
     return std::string(path_name(path)) + "/" + isa + "/" + precision_name(precision) + " [" +

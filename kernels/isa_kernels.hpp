@@ -14,16 +14,18 @@ inline constexpr unsigned kLightShift = 6;
 
 // A set of precision modes, one bit each.
 inline constexpr unsigned mode_bit(Precision p) { return 1u << unsigned(p); }
-// What the AVX2 and baseline units compile; the AVX-512 unit compiles the 14-bit-estimate modes.
+// What the AVX2 and baseline units compile; the AVX-512 units compile these
+// and the 14-bit-estimate modes.
 inline constexpr unsigned kBaseModes =
     mode_bit(Precision::exact) | mode_bit(Precision::fast) | mode_bit(Precision::approx) | mode_bit(Precision::f64);
 inline constexpr unsigned kAvx512Modes = mode_bit(Precision::fast14) | mode_bit(Precision::approx14);
+inline constexpr unsigned kAvx512UnitModes = kBaseModes | kAvx512Modes;
 
 // `primitive_bits` / `light_bits` are FeatureBit sets; pass kAllFeatures for
 // the general kernel. A mode the unit does not compile gives an empty Kernel.
 Kernel simd_avx2_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
 Kernel scalar_avx2_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
-// AVX-512 F+VL: the fast14/approx14 modes, general variant only.
+// AVX-512 F+VL: every mode (exact specialized on features, as AVX2's).
 Kernel simd_avx512_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
 Kernel scalar_avx512_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
 // Baseline x86-64 (no AVX2): the scalar path, general variant only.

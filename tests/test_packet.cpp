@@ -87,28 +87,70 @@ Scene one_object_scene(const Shape& shape) {
 
 }  // namespace
 
-TEST_CASE("every scene in scenes/ agrees with the reference on the scalar and SIMD paths") {
+namespace {
+
+// The instruction sets this CPU runs the SIMD path with (each pinned with select_kernel's Isa).
+std::vector<Isa> simd_isas() {
+    std::vector<Isa> isas;
+    if (avx512_supported()) isas.push_back(Isa::avx512);
+    if (simd_supported()) isas.push_back(Isa::avx2);
+    if (isas.empty()) isas.push_back(Isa::best);  // the generic scalar unit
+    return isas;
+}
+
+}  // namespace
+
+TEST_CASE("every scene in scenes/ agrees with the reference on the scalar and SIMD paths, on every ISA") {
     const Tolerance tol;
     for (const std::string& file : scene_files()) {
         CAPTURE(file);
         const Scene scene = load_scene(file);
         const PacketScene packet = compile(scene);
         const ReferenceRender ref = render_reference(scene);
-        PacketRender renders[2];
-        for (Path path : {Path::scalar, Path::simd}) {
-            CAPTURE(path_name(path));
-            const PacketRender& out = renders[int(path)] = render_packet(select_kernel(packet, path), packet);
-            const Agreement a = compare(ref, out.radiance, out.primitive);
-            CHECK(a.nonfinite == 0);
-            CHECK(a.max_scaled <= tol.scaled_error);
-            CHECK(a.mismatched == a.mismatched_silhouette);
-            CHECK(double(a.mismatched) <= tol.silhouette_fraction * double(a.lanes));
-            CHECK(a.within(tol));
-            CHECK(out.counters.masked == 0);
+        std::vector<PacketRender> renders;
+        for (Isa isa : simd_isas()) {
+            for (Path path : {Path::scalar, Path::simd}) {
+                const Kernel k = select_kernel(packet, path, Precision::exact, isa);
+                CAPTURE(k.name());
+                if (isa != Isa::best) CHECK(std::string(k.isa) == isa_name(isa));
+                const PacketRender& out = renders.emplace_back(render_packet(k, packet));
+                const Agreement a = compare(ref, out.radiance, out.primitive);
+                CHECK(a.nonfinite == 0);
+                CHECK(a.max_scaled <= tol.scaled_error);
+                CHECK(a.mismatched == a.mismatched_silhouette);
+                CHECK(double(a.mismatched) <= tol.silhouette_fraction * double(a.lanes));
+                CHECK(a.within(tol));
+                CHECK(out.counters.masked == 0);
+            }
         }
-        // Same kernel, same operations, same order: the two paths agree to the bit.
-        CHECK(renders[0].radiance.rgb == renders[1].radiance.rgb);
-        CHECK(renders[0].primitive == renders[1].primitive);
+        // Same kernel, same operations, same order: both paths on every ISA agree to the bit.
+        for (std::size_t i = 1; i < renders.size(); ++i) {
+            CAPTURE(i);
+            CHECK(renders[0].radiance.rgb == renders[i].radiance.rgb);
+            CHECK(renders[0].primitive == renders[i].primitive);
+        }
+    }
+}
+
+TEST_CASE("select_kernel's Isa pins the instruction set this CPU runs, and falls back to the best otherwise") {
+    const PacketScene ps = compile(load_scene(scene_files().front()));
+    for (Path path : {Path::scalar, Path::simd}) {
+        CAPTURE(path_name(path));
+        const std::string best = select_kernel(ps, path).isa;
+        CHECK(best == (avx512_supported() ? "avx512" : simd_supported() ? "avx2" : "generic"));
+        CHECK(std::string(select_kernel(ps, path, Precision::exact, Isa::avx512).isa) ==
+              (avx512_supported() ? "avx512" : best));
+        CHECK(std::string(select_kernel(ps, path, Precision::exact, Isa::avx2).isa) ==
+              (simd_supported() ? "avx2" : best));
+        // generic is the scalar path's baseline unit; the SIMD path has none.
+        CHECK(std::string(select_kernel(ps, path, Precision::exact, Isa::generic).isa) ==
+              (path == Path::scalar ? "generic" : best));
+        // fast14 is compiled for AVX-512 only: pinned to avx2 it runs where it is compiled.
+        if (avx512_supported())
+            CHECK(std::string(general_kernel(path, Precision::fast14, Isa::avx2).isa) == "avx512");
+        // Pinned or not, the variant is the scene's.
+        const Kernel k = select_kernel(ps, path, Precision::exact, Isa::avx2);
+        CHECK((k.primitive_bits | k.light_bits) == ps.features.bits);
     }
 }
 
@@ -420,12 +462,15 @@ TEST_CASE("sampled feature variants agree with the reference (each variant on a 
         const PacketScene ps = compile(scene);
         REQUIRE(ps.features.bits == bits);
         const ReferenceRender ref = render_reference(scene);
-        for (Path path : {Path::scalar, Path::simd}) {
-            const Kernel k = select_kernel(ps, path);
-            CHECK((k.primitive_bits | k.light_bits) == bits);
-            const PacketRender out = render_packet(k, ps);
-            const Agreement a = compare(ref, out.radiance, out.primitive);
-            CHECK(a.within(tol));
+        for (Isa isa : simd_isas()) {
+            for (Path path : {Path::scalar, Path::simd}) {
+                const Kernel k = select_kernel(ps, path, Precision::exact, isa);
+                CAPTURE(k.name());
+                CHECK((k.primitive_bits | k.light_bits) == bits);
+                const PacketRender out = render_packet(k, ps);
+                const Agreement a = compare(ref, out.radiance, out.primitive);
+                CHECK(a.within(tol));
+            }
         }
         ++tested;
     }

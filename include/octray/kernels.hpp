@@ -31,6 +31,17 @@ enum class Path {
 };
 inline constexpr const char* path_name(Path p) { return p == Path::scalar ? "scalar" : "simd"; }
 
+// The instruction set a kernel is compiled for. `best` is the first this CPU
+// runs of avx512 (AVX-512 F+VL: the same 8-lane ymm code with 32 registers,
+// and the 14-bit estimate modes), avx2 (AVX2 + FMA) and generic (baseline
+// x86-64, scalar path only). Asking for one the CPU lacks gives `best`
+// instead, and Kernel::isa names what was given. Both paths of a comparison
+// get the same ISA, so a SIMD/scalar ratio compares the same flags.
+enum class Isa { best, avx512, avx2, generic };
+inline constexpr const char* isa_name(Isa i) {
+    return i == Isa::avx512 ? "avx512" : i == Isa::avx2 ? "avx2" : i == Isa::generic ? "generic" : "best";
+}
+
 using IntersectFn = int (*)(const PacketScene&, const RayPacket8&, HitPacket8&) noexcept;
 using OccludedFn = void (*)(const PacketScene&, const RayPacket8&, std::int32_t* occluded) noexcept;
 using ShadeFn = void (*)(const PacketScene&, const RayPacket8&, const HitPacket8&, ColorPacket8&) noexcept;
@@ -49,7 +60,7 @@ struct Kernel {
     unsigned primitive_bits = 0;      // primitive types compiled into intersect
     unsigned light_bits = 0;          // light features compiled into shade
 
-    std::string name() const;         // e.g. "simd/avx2/exact [sphere+plane | directional]"
+    std::string name() const;         // e.g. "simd/avx512/exact [sphere+plane | directional]"
 };
 
 // Kernel specialized to exactly the scene's features (see features.hpp);
@@ -58,13 +69,15 @@ struct Kernel {
 // returns the scalar path's kernel and says so in Kernel::isa ("generic"),
 // never silently. fast14/approx14 need AVX-512 F+VL; without it the kernel
 // is the `fast` one and Kernel::precision says so (`fast` meets approx14's
-// bounds, and fast14's within a factor 2: precision.hpp).
-Kernel select_kernel(const PacketScene& scene, Path path, Precision precision = Precision::exact);
+// bounds, and fast14's within a factor 2: precision.hpp). `isa` pins the
+// instruction set (see Isa; e.g. avx2 on a CPU that slows its clock for
+// AVX-512 code, or to compare the two).
+Kernel select_kernel(const PacketScene& scene, Path path, Precision precision = Precision::exact, Isa isa = Isa::best);
 // The kernel compiled with every feature, whatever the scene uses.
-Kernel general_kernel(Path path, Precision precision = Precision::exact);
+Kernel general_kernel(Path path, Precision precision = Precision::exact, Isa isa = Isa::best);
 // True when this CPU runs the AVX2+FMA code.
 bool simd_supported();
-// True when this CPU runs the AVX-512 F+VL code (fast14, approx14).
+// True when this CPU runs the AVX-512 F+VL code (preferred for every mode; fast14, approx14 need it).
 bool avx512_supported();
 // True when this CPU runs `precision` as asked (no fallback).
 bool precision_supported(Precision precision);
