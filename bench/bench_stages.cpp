@@ -16,6 +16,9 @@
 //                                                shade, tone map, image writes
 //   e2e/default/pipeline/PATH                    the four kernels per packet, no image
 //   e2e/default/render_rows_{fast,approx}/PATH   other precision modes
+//   {e2e/default/render_rows,shade/default,intersect/sphere:256_full_tests}_avx2/PATH
+//                                                the same on the AVX2 unit, where the
+//                                                CPU also runs the (preferred) AVX-512 one
 //   fma_peak/8lanes/chains:C                     sustained FP32 FMA throughput
 //   divider/{div,sqrt}/{8lanes,1lane}            divide / sqrt unit throughput, lane
 //                                                results per second (vdivps ymm vs divss)
@@ -114,11 +117,11 @@ void bm_intersect(benchmark::State& st, Layout layout, int n, Path path) {
 
 // Intersect with culling switched off (every bounding sphere made infinite,
 // so every packet tests every primitive): the kernel's raw test throughput.
-void time_unculled(benchmark::State& st, const Fixture& f, Path path) {
+void time_unculled(benchmark::State& st, const Fixture& f, Path path, Isa isa = Isa::best) {
     if (!check(st, f)) return;
     PacketScene all = f.scene;
     for (ClusterTree& c : all.clusters) c.disable_culling();
-    time_intersect(st, select_kernel(all, path), all, f.rays);
+    time_intersect(st, select_kernel(all, path, Precision::exact, isa), all, f.rays);
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }
 
@@ -131,10 +134,10 @@ void bm_intersect_all_tests(benchmark::State& st, Layout layout, int n, Path pat
 
 // Nested spheres unculled: every test runs in full, so the FLOP count per ray
 // is the work done (intersect_fraction_of_peak is measured here).
-void bm_intersect_full_tests(benchmark::State& st, int n, Path path) {
+void bm_intersect_full_tests(benchmark::State& st, int n, Path path, Isa isa) {
     time_unculled(st, cached("intersect/nested_spheres:" + std::to_string(n),
                              [&](Fixture& fx) { prepare(fx, nested_spheres_scene(n, kImage, kImage)); }),
-                  path);
+                  path, isa);
 }
 
 // ---- shade ------------------------------------------------------------------
@@ -166,7 +169,7 @@ Scene shade_scene(const LightSpec& spec) {
     return s;
 }
 
-void bm_shade(benchmark::State& st, const LightSpec& spec, Path path) {
+void bm_shade(benchmark::State& st, const LightSpec& spec, Path path, Isa isa = Isa::best) {
     const Fixture& f = spec.name == "default"
                            ? cached("shade/default",
                                     [](Fixture& fx) {
@@ -177,7 +180,7 @@ void bm_shade(benchmark::State& st, const LightSpec& spec, Path path) {
                                     })
                            : cached("shade/" + spec.name, [&](Fixture& fx) { prepare(fx, shade_scene(spec)); });
     if (!check(st, f)) return;
-    const Kernel k = select_kernel(f.scene, path);
+    const Kernel k = select_kernel(f.scene, path, Precision::exact, isa);
     ColorPacket8 out;
     const std::size_t n = f.rays.packets.size();
     for (auto _ : st) {
@@ -229,10 +232,10 @@ double e2e_flops(const PacketScene& s) {
            tonemap_flops_per_ray(s.tonemap, s.inv_gamma != 1.0f);
 }
 
-void bm_render_rows(benchmark::State& st, Precision precision, Path path) {
+void bm_render_rows(benchmark::State& st, Precision precision, Path path, Isa isa = Isa::best) {
     const Fixture& f = default_fixture();
     if (!check(st, f)) return;
-    const Kernel k = select_kernel(f.scene, path, precision);
+    const Kernel k = select_kernel(f.scene, path, precision, isa);
     const int w = f.scene.camera.width, h = f.scene.camera.height;
     Image<float> hdr(w, h), display(w, h);
     for (auto _ : st) {
@@ -316,7 +319,7 @@ void register_all() {
                                      [p](benchmark::State& st) { bm_intersect_all_tests(st, Layout::sphere, 256, p); });
     for (Path p : kPaths)
         benchmark::RegisterBenchmark(("intersect/sphere:256_full_tests" + path_suffix(p)).c_str(),
-                                     [p](benchmark::State& st) { bm_intersect_full_tests(st, 256, p); });
+                                     [p](benchmark::State& st) { bm_intersect_full_tests(st, 256, p, Isa::best); });
     for (int n : {1, 4, 16, 64, 256})
         for (Path p : kPaths)
             benchmark::RegisterBenchmark(("intersect/mixed:" + std::to_string(n) + path_suffix(p)).c_str(),
@@ -353,6 +356,20 @@ void register_all() {
                                      [p](benchmark::State& st) { bm_render_rows(st, Precision::fast, p); });
         benchmark::RegisterBenchmark(("e2e/default/render_rows_approx" + path_suffix(p)).c_str(),
                                      [p](benchmark::State& st) { bm_render_rows(st, Precision::approx, p); });
+    }
+
+    // The AVX-512 unit is preferred where the CPU runs it; these rows time the
+    // AVX2 unit on the same data in the same run, so the two compare directly.
+    if (avx512_supported()) {
+        for (Path p : kPaths) {
+            benchmark::RegisterBenchmark(("e2e/default/render_rows_avx2" + path_suffix(p)).c_str(),
+                                         [p](benchmark::State& st) { bm_render_rows(st, Precision::exact, p, Isa::avx2); });
+            benchmark::RegisterBenchmark(("shade/default_avx2" + path_suffix(p)).c_str(), [p](benchmark::State& st) {
+                bm_shade(st, LightSpec{"default"}, p, Isa::avx2);
+            });
+            benchmark::RegisterBenchmark(("intersect/sphere:256_full_tests_avx2" + path_suffix(p)).c_str(),
+                                         [p](benchmark::State& st) { bm_intersect_full_tests(st, 256, p, Isa::avx2); });
+        }
     }
 }
 
