@@ -24,7 +24,9 @@ int run_info(const InfoArgs& args) {
                 packet.point_attenuated_count);
     std::printf("features     %s\n", feature_string(f.bits).c_str());
     std::printf("tone map     %s, gamma %s\n", tonemaps[int(f.tonemap)], f.gamma ? "yes" : "no (1)");
-    std::printf("simd         %s\n", simd_supported() ? "AVX2+FMA available" : "AVX2+FMA not available: scalar fallback");
+    std::printf("simd         %s\n", !simd_supported()   ? "AVX2+FMA not available: scalar fallback"
+                                     : avx512_supported() ? "AVX2+FMA and AVX-512 F+VL available: both paths run the AVX-512 units"
+                                                          : "AVX2+FMA available");
     for (Path path : {Path::simd, Path::scalar})
         std::printf("kernel %-6s %s\n", path_name(path), select_kernel(packet, path).name().c_str());
     return kExitOk;

@@ -35,7 +35,8 @@ int run_stability(const StabilityArgs&) {
                 "Columns: the path (1 = scalar, one lane; 8 = SIMD, %s) and the precision mode (AVX-512 modes:\n"
                 "%s). '!' marks a failed cell; 'naive' is the textbook formulation (b^2 - 4ac, fixed\n"
                 "epsilons), measured for comparison and not part of the verdict.\n\n",
-                cases.size(), simd_supported() ? "AVX2+FMA" : "not available, the scalar kernel runs",
+                cases.size(),
+                !simd_supported() ? "not available, the scalar kernel runs" : avx512_supported() ? "AVX-512 F+VL" : "AVX2+FMA",
                 avx512_supported() ? "AVX-512 F+VL" : "not available, they run as fast");
 
     // Column titles: 1 = scalar path, 8 = SIMD path, then the precision mode.
