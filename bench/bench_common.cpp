@@ -37,7 +37,9 @@ namespace octray::bench {
 // load_ray: dd = fdot(d, d) 5; inv_dd = 1 div; -inv_dd 1; exit_scale 1;
 //           len_d = 1 sqrt                                               =  9
 //   only with boxes: inv_d = 3 rcp (+3); only with triangles: the shear
-//   1/d_kz 1, two ratios 2, two negations 2 (+5)
+//   1/d_kz 1, two ratios 2, two negations 2 (+5). Both are made only for
+//   packets that get past the type's root (for_each_candidate), so counting
+//   them for every ray is an upper bound.
 // p = o + d * t (3 mul, 3 add)                                           =  6
 // face-forward: fdot(n, d) 5; 0 - n (3 sub, computed then selected)      =  8
 //                                                          per-ray setup  = 21 (+3, +5)

@@ -63,7 +63,7 @@ Lookup<T> hit_lookup(const Closest<T>& best) {
 // Spheres only; compiled id k = sphere k.
 int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P, kSphere>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
@@ -80,7 +80,7 @@ int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp
 // Planes only.
 int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P, kPlane>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const PlaneArrays& a = s.planes;
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
@@ -96,7 +96,7 @@ int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
 // Spheres, then planes (compiled ids: spheres first).
 int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P, kSphere | kPlane>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     const PlaneArrays& b = s.planes;
     Closest<T> best{r.tmax, T(-1)};
@@ -127,7 +127,7 @@ int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPack
 // Triangles only.
 int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P, kTriangle>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const TriangleArrays& a = s.triangles;
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::triangle>(s, s.count[5], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
@@ -144,7 +144,7 @@ int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& 
 // Boxes only; the face normal from the hit point as in the library kernel.
 int intersect_boxes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P, kBox>(rp, 0, masked);
+    const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const BoxArrays& a = s.boxes;
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::box>(s, s.count[4], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {

@@ -149,10 +149,14 @@ struct Ray {
     T neg_inv_dd;    // -1 / (d.d)
     T exit_scale;    // -2^-18 d.d: the sphere test's miss-exit margin per unit of |f|^2 + r^2
     T len_d;         // |d| = sqrt(d.d)
-    Vec3<T> inv_d;   // 1 / d per axis, +-inf for a zero or subnormal component
+    // What only box and triangle tests use, made when a packet's walk of
+    // that type gets past its root (make_slabs, make_shear, called by
+    // for_each_candidate): culling keeps most packets of most scenes from
+    // reaching one, and the setup costs four IEEE divisions per ray.
+    mutable Vec3<T> inv_d;   // 1 / d per axis, +-inf for a zero or subnormal component
     // Projection across the ray for triangles: (v.proj_a, v.proj_b) are v's
     // coordinates in the plane sheared along d (Woop et al.'s Sx, Sy, kz).
-    Vec3<T> proj_a, proj_b;
+    mutable Vec3<T> proj_a, proj_b;
 };
 
 // Smallest and largest d.d a ray may have: 1/(d.d) and d.d must both be normal
@@ -164,29 +168,34 @@ inline constexpr float kMaxDirection2 = 0x1p126f;
 // precision mode: it is paid once per ray, and the sphere's perpendicular
 // offset f - d (f.d / d.d) subtracts nearly equal vectors for a far sphere,
 // where an estimate's 2^-12 error in 1/(d.d) would move the ray by 2^-12 |f|
-// (a miss for r = 1 at distance 1e4). The slab reciprocals treat a subnormal
-// component like zero (signed infinity): the estimate instructions read
-// subnormals as zero and their Newton step would make inf * 0 = NaN.
-// Only what the primitive types in F use is computed: the slab reciprocals for
-// boxes, the shear for triangles.
-template <unsigned F, class T, Precision P>
+// (a miss for r = 1 at distance 1e4).
+template <class T, Precision P>
 inline void finish_ray(Ray<T, P>& r, const T& dd) {
     r.dd = dd;
     r.inv_dd = T(1) / dd;
     r.neg_inv_dd = T(0) - r.inv_dd;
     r.exit_scale = T(-0x1p-18f) * dd;
     r.len_d = lane::sqrt(dd);
-    if constexpr ((F & kBox) != 0) {
+}
+
+// The box test's slab reciprocals (Ray::inv_d). A subnormal component
+// counts as zero (signed infinity): the estimate instructions read
+// subnormals as zero and their Newton step would make inf * 0 = NaN.
+template <class T, Precision P>
+inline void make_slabs(const Ray<T, P>& r) {
     auto inv_axis = [](const T& c) {
         return lane::select(lane::abs(c) < T(std::numeric_limits<float>::min()), lane::copysign(inf<T>(), c),
                             lane::rcp<P>(c));
     };
     r.inv_d = {inv_axis(r.d.x), inv_axis(r.d.y), inv_axis(r.d.z)};
-    }
-    if constexpr ((F & kTriangle) == 0) return;
-    // Shear along the dominant axis kz of d (kx, ky the next two, cyclic):
-    // proj_a = e_kx - (d_kx / d_kz) e_kz, proj_b = e_ky - (d_ky / d_kz) e_kz,
-    // both orthogonal to d; |d_kz| >= |d| / sqrt(3), so the ratios are <= 1.
+}
+
+// The triangle test's shear (Ray::proj_a, proj_b): along the dominant axis
+// kz of d (kx, ky the next two, cyclic), proj_a = e_kx - (d_kx / d_kz) e_kz,
+// proj_b = e_ky - (d_ky / d_kz) e_kz, both orthogonal to d; |d_kz| >= |d| /
+// sqrt(3), so the ratios are <= 1.
+template <class T, Precision P>
+inline void make_shear(const Ray<T, P>& r) {
     const T ax = lane::abs(r.d.x), ay = lane::abs(r.d.y), az = lane::abs(r.d.z);
     const Mask<T> zx = ax >= ay && ax >= az, zy = lane::not_(zx) && ay >= az;
     const T inv_dz = T(1) / lane::select(zx, r.d.x, lane::select(zy, r.d.y, r.d.z));
@@ -203,7 +212,7 @@ inline void finish_ray(Ray<T, P>& r, const T& dd) {
 // Loads lanes [lane, lane + width) and masks off what no kernel can trace:
 // inactive lanes, non-finite origin or direction, zero direction, an empty or
 // NaN interval. Masked lanes get a harmless ray so no NaN is ever computed.
-template <class T, Precision P, unsigned F = kAllFeatures>
+template <class T, Precision P>
 inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     Ray<T, P> r;
     r.o = {load<T>(rp.ox, lane), load<T>(rp.oy, lane), load<T>(rp.oz, lane)};
@@ -226,7 +235,7 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     r.d = {lane::select(r.valid, r.d.x, T(0)), lane::select(r.valid, r.d.y, T(0)), lane::select(r.valid, r.d.z, T(1))};
     r.tmin = lane::select(r.valid, r.tmin, T(0));
     r.tmax = lane::select(r.valid, r.tmax, T(0));  // empty interval: no hit can be accepted
-    finish_ray<F>(r, lane::select(r.valid, dd, T(1)));
+    finish_ray(r, lane::select(r.valid, dd, T(1)));
     return r;
 }
 
@@ -399,7 +408,8 @@ OCTRAY_HOT T rectangle_t(const Ray<T, P>& r, const Vec3<T>& corner, const Vec3<T
 // Axis-aligned box. Boundary rule: the box is closed (faces, edges and
 // corners hit). A ray with a zero direction component whose origin lies on
 // that slab's plane is inside the slab (0 * inf = NaN there becomes the whole
-// line). From inside, the exit point is the hit.
+// line). From inside, the exit point is the hit. Needs make_slabs(r) first
+// (for_each_candidate makes it).
 template <class T, Precision P>
 OCTRAY_HOT T box_t(const Ray<T, P>& r, const Vec3<T>& lo, const Vec3<T>& hi, Mask<T>& hit, const T& tbest) {
     auto slab = [&](const T& o, const T& inv, const T& a, const T& b, T& enter, T& leave) {
@@ -435,6 +445,7 @@ inline void triangle_edges(const Ray<T, P>& r, const Vec3<T>& v0, const Vec3<T>&
 
 // Triangle, watertight (see triangle_edges). Boundary rule: edges and
 // vertices hit (closed edge tests); a ray in the triangle's plane misses.
+// Needs make_shear(r) first (for_each_candidate makes it).
 // t comes from the compiled unit normal n (rounded once from double), not
 // from cross products of the ray-relative vertices: those lose |v|/edge ulps
 // for a triangle far from the origin, and their cube overflows float sooner.
@@ -703,6 +714,8 @@ OCTRAY_HOT void for_each_candidate(const PacketScene& s, int n, const Ray<T, P>&
     } else {
         const ClusterTree& tree = s.clusters[std::size_t(Type)];
         if (tree.size() == 0 || !cluster_may_hit(r, tree, 0, tbest)) return;
+        if constexpr (Type == PrimitiveType::box) make_slabs(r);
+        if constexpr (Type == PrimitiveType::triangle) make_shear(r);
         if (tree.size() == 1) {  // one cluster (a scene with few of the type): no walk
             for (int k = 0; k < n; ++k) test(k);
             return;
@@ -803,7 +816,7 @@ inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Vec3<T>& p, 
 template <class T, Precision P, unsigned F>
 inline int intersect_lanes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp, int lane) {
     int masked = 0;
-    const Ray<T, P> r = load_ray<T, P, F>(rp, lane, masked);
+    const Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
     const Closest<T> best = closest_hit<T, P, F>(s, r);
     const Mask<T> hit = r.valid && best.cid >= T(0);
     const T cid = lane::select(hit, best.cid, T(0));
@@ -832,11 +845,13 @@ int intersect_packet(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
 }
 
 // ---- any hit (shadow rays) -------------------------------------------------
+// The valid lanes of `live` blocked in (tmin, tmax). live.valid narrows as
+// lanes are blocked (the walk culls what none of the others can reach and
+// stops when none is left); the ray is the caller's, not copied: a copy of
+// the whole Ray costs more than a shadow ray's culling.
 template <class T, Precision P, unsigned F>
-inline Mask<T> any_hit(const PacketScene& s, const Ray<T, P>& r) {
-    // `live.valid`: the valid lanes not blocked yet. The walk culls what none
-    // of them can reach and stops when none is left.
-    Ray<T, P> live = r;
+inline Mask<T> any_hit(const PacketScene& s, Ray<T, P>& live) {
+    const Mask<T> valid = live.valid;
     LazyBeam<T, P> beam(live);
     for_each_primitive_type<F>(s, [&](auto tag, int n) {
         constexpr PrimitiveType type = decltype(tag)::value;
@@ -847,38 +862,36 @@ inline Mask<T> any_hit(const PacketScene& s, const Ray<T, P>& r) {
             live.valid = live.valid && lane::not_(hit);
         });
     });
-    return r.valid && lane::not_(live.valid);
+    return valid && lane::not_(live.valid);
 }
 
 template <class T, Precision P, unsigned F>
 void occluded_packet(const PacketScene& s, const RayPacket8& rp, std::int32_t* occluded) noexcept {
     for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) {
         int masked = 0;
-        const Ray<T, P> r = load_ray<T, P, F>(rp, lane, masked);
+        Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
         store_mask<T>(occluded, lane, any_hit<T, P, F & kAllPrimitives>(s, r));
     }
 }
 
 // ---- shading (seed eq. 7-8) ------------------------------------------------
-// Shadow ray from p toward a light at distance `dist` along unit `l`. The
+// Fills r with the shadow ray from p toward a light at distance `dist` along unit `l`. The
 // origin moves off the surface along the facing normal so the surface does not
 // shadow itself: by 1e-4 |p|, or by more than the hit point's error where the
 // precision mode's error over the camera ray's length `reach` (|p - o|, max
 // norm) is larger (precision.hpp, shadow_offset).
 template <class T, Precision P>
-inline Ray<T, P> shadow_ray(const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist, const Mask<T>& valid,
-                            const T& reach) {
+inline void shadow_ray(Ray<T, P>& r, const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist,
+                       const Mask<T>& valid, const T& reach) {
     const T scale = lane::max(lane::max(lane::abs(p.x), lane::abs(p.y)), lane::max(lane::abs(p.z), T(1)));
     const T eps = lane::max(scale * T(1e-4f), (scale + reach) * T(float(shadow_offset(P))));
-    Ray<T, P> r;
     r.o = p + n * eps;
     r.d = l;
     r.tmin = T(0);
     r.tmax = dist;
     r.valid = valid;
     r.invalid = Mask<T>(false);
-    finish_ray<kAllPrimitives>(r, fdot(l, l));
-    return r;
+    finish_ray(r, fdot(l, l));
 }
 
 // Adds one light's ls*cl * max(0, n.l) [* 1/r^2] to E where `lit`.
@@ -920,8 +933,11 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
             const T ndl = fdot(n, l);
             Mask<T> lit = hit && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
-                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && lane::not_(any_hit<T, P, kAllPrimitives>(s, shadow_ray<T, P>(p, n, l, inf<T>(), lit, reach)));
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit)) {
+                    Ray<T, P> shadow;
+                    shadow_ray(shadow, p, n, l, inf<T>(), lit, reach);
+                    lit = lit && lane::not_(any_hit<T, P, kAllPrimitives>(s, shadow));
+                }
             }
             accumulate(e, lit, ndl, broadcast3<T>(a.r, a.g, a.b, k));
         }
@@ -948,9 +964,11 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
             const T ndl = fdot(n, v) * inv_r;
             Mask<T> lit = hit && apart && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
-                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && lane::not_(any_hit<T, P, kAllPrimitives>(
-                                     s, shadow_ray<T, P>(p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach)));
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit)) {
+                    Ray<T, P> shadow;
+                    shadow_ray(shadow, p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach);
+                    lit = lit && lane::not_(any_hit<T, P, kAllPrimitives>(s, shadow));
+                }
             }
             T weight = ndl;
             if constexpr (decltype(attenuated)::value) {
