@@ -875,9 +875,9 @@ void occluded_packet(const PacketScene& s, const RayPacket8& rp, std::int32_t* o
 }
 
 // ---- shading (seed eq. 7-8) ------------------------------------------------
-// Fills r with the shadow ray from p toward a light at distance `dist` along unit `l`. The
-// origin moves off the surface along the facing normal so the surface does not
-// shadow itself: by 1e-4 |p|, or by more than the hit point's error where the
+// Fills r with the shadow ray from p toward a light at distance `dist` along
+// unit `l`. The origin moves off the surface along the facing normal so the
+// surface does not shadow itself: by 1e-4 |p|, or by more than the hit point's error where the
 // precision mode's error over the camera ray's length `reach` (|p - o|, max
 // norm) is larger (precision.hpp, shadow_offset).
 template <class T, Precision P>
@@ -892,6 +892,16 @@ inline void shadow_ray(Ray<T, P>& r, const Vec3<T>& p, const Vec3<T>& n, const V
     r.valid = valid;
     r.invalid = Mask<T>(false);
     finish_ray(r, fdot(l, l));
+}
+
+// The lanes of `lit` whose shadow ray (shadow_ray's arguments) something
+// blocks; the ray is built in place for any_hit, which narrows it.
+template <class T, Precision P>
+inline Mask<T> shadowed(const PacketScene& s, const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist,
+                        const Mask<T>& lit, const T& reach) {
+    Ray<T, P> shadow;
+    shadow_ray(shadow, p, n, l, dist, lit, reach);
+    return any_hit<T, P, kAllPrimitives>(s, shadow);
 }
 
 // Adds one light's ls*cl * max(0, n.l) [* 1/r^2] to E where `lit`.
@@ -933,11 +943,8 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
             const T ndl = fdot(n, l);
             Mask<T> lit = hit && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
-                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit)) {
-                    Ray<T, P> shadow;
-                    shadow_ray(shadow, p, n, l, inf<T>(), lit, reach);
-                    lit = lit && lane::not_(any_hit<T, P, kAllPrimitives>(s, shadow));
-                }
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
+                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, l, inf<T>(), lit, reach));
             }
             accumulate(e, lit, ndl, broadcast3<T>(a.r, a.g, a.b, k));
         }
@@ -964,11 +971,8 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
             const T ndl = fdot(n, v) * inv_r;
             Mask<T> lit = hit && apart && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
-                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit)) {
-                    Ray<T, P> shadow;
-                    shadow_ray(shadow, p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach);
-                    lit = lit && lane::not_(any_hit<T, P, kAllPrimitives>(s, shadow));
-                }
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
+                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach));
             }
             T weight = ndl;
             if constexpr (decltype(attenuated)::value) {
