@@ -699,7 +699,7 @@ inline constexpr int bounded_types(unsigned f) {
 // children, and a leaf's primitives, are tested against the packet's beam a
 // vector at a time, and only those it comes near are visited. Ray by ray
 // every node cost about a sphere test; the beam tests 8 for about one
-// (callgrind, the Embree peer's spheres:64 scene: 1050 instructions per
+// (callgrind, the Embree peer's spheres:64 scene: 1048 instructions per
 // packet with the binary tree of per-ray tests, 722 so). `test` may lower
 // tbest and narrow r.valid as it goes (any_hit drops blocked lanes; the walk
 // ends when none is left). Children are visited in order whatever the rays'
