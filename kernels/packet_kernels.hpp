@@ -550,6 +550,9 @@ OCTRAY_HOT bool cluster_may_hit(const Ray<T, P>& r, const ClusterTree& c, int j,
     // its error is below ~12u a (s2 + rb2), a sixth of the margin).
     const T outside = s2 - rb2, margin = T(0x1p-18f) * (s2 + rb2);
     const Mask<T> line_misses = b * b - r.dd * outside < T(0) - r.dd * margin;
+    // Most packets pass a small type's root far off: stop before the other
+    // two tests, as a single ray's short-circuit would.
+    if (lane::all(line_misses || lane::not_(r.valid))) return false;
     const Mask<T> behind = b > T(0) && outside > margin;
     const T t_enter = (T(0) - b - rb * r.len_d) * r.inv_dd;  // no point of the sphere is nearer
     const Mask<T> beyond = t_enter - lane::abs(t_enter) * T(0x1p-10f) > tbest;
