@@ -230,6 +230,10 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     r.valid = active && finite && usable_d && interval;
     r.invalid = active && lane::not_(r.valid);
     masked += lane::count(r.invalid);
+    if (lane::all(r.valid)) {  // the usual packet: nothing to replace
+        finish_ray(r, dd);
+        return r;
+    }
     // Replace what was masked off by a ray that hits nothing it could poison.
     r.o = {lane::select(r.valid, r.o.x, T(0)), lane::select(r.valid, r.o.y, T(0)), lane::select(r.valid, r.o.z, T(0))};
     r.d = {lane::select(r.valid, r.d.x, T(0)), lane::select(r.valid, r.d.y, T(0)), lane::select(r.valid, r.d.z, T(1))};
