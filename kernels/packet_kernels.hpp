@@ -90,7 +90,7 @@ inline void store_index(std::int32_t* p, int lane, const T& v) {
 }
 template <class T>
 inline void store_mask(std::int32_t* p, int lane, const Mask<T>& m) {
-    store_index(p, lane, lane::select(m, T(-1), T(0)));
+    store_index(p, lane, lane::keep(m, T(-1)));
 }
 template <class T>
 inline Mask<T> load_mask(const std::int32_t* p, int lane) {
@@ -235,10 +235,10 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
         return r;
     }
     // Replace what was masked off by a ray that hits nothing it could poison.
-    r.o = {lane::select(r.valid, r.o.x, T(0)), lane::select(r.valid, r.o.y, T(0)), lane::select(r.valid, r.o.z, T(0))};
-    r.d = {lane::select(r.valid, r.d.x, T(0)), lane::select(r.valid, r.d.y, T(0)), lane::select(r.valid, r.d.z, T(1))};
-    r.tmin = lane::select(r.valid, r.tmin, T(0));
-    r.tmax = lane::select(r.valid, r.tmax, T(0));  // empty interval: no hit can be accepted
+    r.o = {lane::keep(r.valid, r.o.x), lane::keep(r.valid, r.o.y), lane::keep(r.valid, r.o.z)};
+    r.d = {lane::keep(r.valid, r.d.x), lane::keep(r.valid, r.d.y), lane::select(r.valid, r.d.z, T(1))};
+    r.tmin = lane::keep(r.valid, r.tmin);
+    r.tmax = lane::keep(r.valid, r.tmax);  // empty interval: no hit can be accepted
     finish_ray(r, lane::select(r.valid, dd, T(1)));
     return r;
 }
@@ -598,8 +598,8 @@ inline Beam make_beam(const Ray<T, P>& r) {
     const Vec3<T> across = cross(dir, axis);
     const Vec3<T> off = r.o - Vec3<T>{T(ox), T(oy), T(oz)};  // each component rounded once: relative error u
     const float cos_theta = float(lane::lane0(lane::hmin(lane::select(r.valid, fdot(dir, axis), T(1)))));
-    const float sin2_theta = float(lane::lane0(lane::hmax(lane::select(r.valid, fdot(across, across), T(0)))));
-    const float spread2 = float(lane::lane0(lane::hmax(lane::select(r.valid, fdot(off, off), T(0)))));
+    const float sin2_theta = float(lane::lane0(lane::hmax(lane::keep(r.valid, fdot(across, across)))));
+    const float spread2 = float(lane::lane0(lane::hmax(lane::keep(r.valid, fdot(off, off)))));
     // At 90 degrees or more (cos <= 0, or NaN) the bound says nothing: cos 0, sin 1.
     const bool narrow = cos_theta > 0.0f;
     return {{NodeLanes(ox), NodeLanes(oy), NodeLanes(oz)},
@@ -783,8 +783,8 @@ inline Vec3<T> type_normal(const PacketScene& s, const Lookup<T>& at, const Vec3
         const T dx = lane::abs(d.x), dy = lane::abs(d.y), dz = lane::abs(d.z);
         const Mask<T> ax = (rx > ry || (rx == ry && dx >= dy)) && (rx > rz || (rx == rz && dx >= dz));
         const Mask<T> ay = lane::not_(ax) && (ry > rz || (ry == rz && dy >= dz)), az = lane::not_(ax || ay);
-        return {lane::select(ax, lane::copysign(T(1), q.x), T(0)), lane::select(ay, lane::copysign(T(1), q.y), T(0)),
-                lane::select(az, lane::copysign(T(1), q.z), T(0))};
+        return {lane::keep(ax, lane::copysign(T(1), q.x)), lane::keep(ay, lane::copysign(T(1), q.y)),
+                lane::keep(az, lane::copysign(T(1), q.z))};
     } else {
         return at(s.triangles.nx, s.triangles.ny, s.triangles.nz);
     }
@@ -816,7 +816,7 @@ inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Lookup<T>& a
         const int base = s.offset[int(type)];
         const Mask<T> mine = hit && cid >= T(float(base)) && cid < T(float(base + count));
         if (count == 0 || !lane::any(mine)) return;
-        const Vec3<T> m = type_normal<type>(s, Lookup<T>(lane::select(mine, cid - T(float(base)), T(0)), mine), p, d);
+        const Vec3<T> m = type_normal<type>(s, Lookup<T>(lane::keep(mine, cid - T(float(base))), mine), p, d);
         n = {lane::select(mine, m.x, n.x), lane::select(mine, m.y, n.y), lane::select(mine, m.z, n.z)};
     });
     return n;
@@ -828,7 +828,7 @@ inline int intersect_lanes(const PacketScene& s, const RayPacket8& rp, HitPacket
     const Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
     const Closest<T> best = closest_hit<T, P, F>(s, r);
     const Mask<T> hit = r.valid && best.cid >= T(0);
-    const T cid = lane::select(hit, best.cid, T(0));
+    const T cid = lane::keep(hit, best.cid);
     const Vec3<T> p = r.o + r.d * best.t;
     const Lookup<T> at(cid, hit);
     Vec3<T> n = hit_normal<T, F>(s, cid, at, p, hit, r.d);
@@ -838,9 +838,9 @@ inline int intersect_lanes(const PacketScene& s, const RayPacket8& rp, HitPacket
     store(hp.t, lane, lane::select(hit, best.t, inf<T>()));
     store_index(hp.primitive, lane, lane::select(hit, at(s.object_of), T(-1)));
     store_index(hp.material, lane, lane::select(hit, at(s.material_of), T(-1)));
-    store(hp.nx, lane, lane::select(hit, n.x, T(0)));
-    store(hp.ny, lane, lane::select(hit, n.y, T(0)));
-    store(hp.nz, lane, lane::select(hit, n.z, T(0)));
+    store(hp.nx, lane, lane::keep(hit, n.x));
+    store(hp.ny, lane, lane::keep(hit, n.y));
+    store(hp.nz, lane, lane::keep(hit, n.z));
     store_mask<T>(hp.hit, lane, hit);
     store_mask<T>(hp.invalid, lane, r.invalid);
     return masked;
@@ -927,7 +927,7 @@ inline Mask<T> shadowed(const PacketScene& s, const Vec3<T>& p, const Vec3<T>& n
 // NaN); elsewhere x = e + radiance * w >= e, so the max changes nothing.
 template <class T>
 inline void accumulate(Vec3<T>& e, const Mask<T>& lit, const T& weight, const Vec3<T>& radiance) {
-    const T w = lane::select(lit, weight, T(0));
+    const T w = lane::keep(lit, weight);
     e = {lane::max(lane::fma(radiance.x, w, e.x), e.x), lane::max(lane::fma(radiance.y, w, e.y), e.y),
          lane::max(lane::fma(radiance.z, w, e.z), e.z)};
 }
@@ -937,11 +937,11 @@ inline void shade_lanes(const PacketScene& s, const RayPacket8& rp, const HitPac
     const Mask<T> hit = load_mask<T>(hp.hit, lane) && load_mask<T>(rp.active, lane);
     const Vec3<T> o{load<T>(rp.ox, lane), load<T>(rp.oy, lane), load<T>(rp.oz, lane)};
     const Vec3<T> d{load<T>(rp.dx, lane), load<T>(rp.dy, lane), load<T>(rp.dz, lane)};
-    const T t = lane::select(hit, load<T>(hp.t, lane), T(0));
-    const Vec3<T> p{lane::select(hit, lane::fma(d.x, t, o.x), T(0)), lane::select(hit, lane::fma(d.y, t, o.y), T(0)),
-                    lane::select(hit, lane::fma(d.z, t, o.z), T(0))};
+    const T t = lane::keep(hit, load<T>(hp.t, lane));
+    const Vec3<T> p{lane::keep(hit, lane::fma(d.x, t, o.x)), lane::keep(hit, lane::fma(d.y, t, o.y)),
+                    lane::keep(hit, lane::fma(d.z, t, o.z))};
     const Vec3<T> n{load<T>(hp.nx, lane), load<T>(hp.ny, lane), load<T>(hp.nz, lane)};
-    const T m = lane::select(hit, load_index<T>(hp.material, lane), T(0));
+    const T m = lane::keep(hit, load_index<T>(hp.material, lane));
     [[maybe_unused]] const T reach = t * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
 
     Vec3<T> e{T(0), T(0), T(0)};  // sum over lights of ls*cl * n.l [/ r^2]
@@ -1038,7 +1038,7 @@ inline void tonemap_lanes(const PacketScene& s, const ColorPacket8& in, ColorPac
         const Mask<T> infinite = mx == inf<T>();
         const T scale = lane::rcp<P>(lane::select(over && lane::not_(infinite), mx, T(1)));
         auto fix = [&](const T& c) {
-            return lane::select(infinite, lane::select(c == inf<T>(), T(1), T(0)), lane::select(over, lane::min(c * scale, T(1)), c));
+            return lane::select(infinite, lane::keep(c == inf<T>(), T(1)), lane::select(over, lane::min(c * scale, T(1)), c));
         };
         r = fix(r), g = fix(g), b = fix(b);
     } else if constexpr (M == ToneMap::clamp_to_color) {
@@ -1052,7 +1052,7 @@ inline void tonemap_lanes(const PacketScene& s, const ColorPacket8& in, ColorPac
     if (s.inv_gamma != 1.0f) {
         const T ig(s.inv_gamma);
         // c = 0 computes a finite value that the select drops.
-        auto gam = [&](const T& c) { return lane::select(c > T(0), gamma_pow(c, ig), T(0)); };
+        auto gam = [&](const T& c) { return lane::keep(c > T(0), gamma_pow(c, ig)); };
         r = gam(r), g = gam(g), b = gam(b);
     }
     store(out.r, lane, r);

@@ -11,7 +11,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
+#include <type_traits>
 
 namespace octray::test {
 namespace {
@@ -56,6 +58,38 @@ void check_uniform_on() {
         const BB mask = B::load_aligned(on) != B(0.0f);
         CHECK(lane::uniform_on(B::load_aligned(idx), mask, value) == want);
         if (want && first >= 0) CHECK(value == first);
+    }
+}
+
+// keep(m, x): the bits of select(m, x, 0) and of the scalar keep on every
+// lane, for masks from compares and from && of compares, on values that
+// include -0, NaN, infinities and subnormals.
+template <class B>
+void check_keep() {
+    using S = typename B::value_type;
+    using Bits = std::conditional_t<sizeof(S) == 4, std::uint32_t, std::uint64_t>;
+    constexpr std::size_t n = B::size;
+    const S special[] = {S(-0.0), S(0), std::numeric_limits<S>::quiet_NaN(), std::numeric_limits<S>::infinity(),
+                         -std::numeric_limits<S>::infinity(), std::numeric_limits<S>::denorm_min(), S(-1.5), S(3)};
+    auto bits_of = [](S v) {
+        Bits u;
+        std::memcpy(&u, &v, sizeof u);
+        return u;
+    };
+    Lcg rng{13};
+    for (int trial = 0; trial < 2000; ++trial) {
+        alignas(64) S v[n], a[n], b[n], got[n], by_select[n];
+        for (std::size_t i = 0; i < n; ++i)
+            v[i] = special[rng() % 8], a[i] = S(int(rng() % 5) - 2), b[i] = S(int(rng() % 5) - 2);
+        const B x = B::load_aligned(v), ba = B::load_aligned(a), bb = B::load_aligned(b);
+        const auto mask = trial % 2 == 0 ? ba > bb : (ba > bb) && (ba != B(S(0)));
+        lane::keep(mask, x).store_aligned(got);
+        lane::select(mask, x, B(S(0))).store_aligned(by_select);
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool on = trial % 2 == 0 ? a[i] > b[i] : a[i] > b[i] && a[i] != 0;
+            CHECK(bits_of(got[i]) == bits_of(by_select[i]));
+            CHECK(bits_of(got[i]) == bits_of(lane::keep(on, v[i])));
+        }
     }
 }
 

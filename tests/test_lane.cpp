@@ -27,6 +27,14 @@ TEST_CASE("lane::bits, hmin, hmax and lane0 agree with a loop over the lanes") {
     test::check_horizontal<xsimd::batch<double>>();
 }
 
+TEST_CASE("lane::keep gives select(m, x, 0)'s bits, on SIMD and scalar lanes") {
+    CHECK(lane::keep(true, -0.0f) == 0.0f);
+    CHECK(std::signbit(lane::keep(true, -0.0f)));
+    CHECK(!std::signbit(lane::keep(false, -1.0f)));
+    test::check_keep<xsimd::batch<float>>();
+    test::check_keep<xsimd::batch<double>>();
+}
+
 TEST_CASE("the same lane checks at AVX2 (lane.hpp's intrinsic paths)") {
     if (!test::avx2_lane_checks()) MESSAGE("this CPU has no AVX2: skipped");
 }

@@ -9,6 +9,7 @@ bool avx2_lane_checks() {
     check_min_max_nan_rule<B>();
     check_uniform_on<B>();
     check_horizontal<B>();
+    check_keep<B>();
     return true;
 }
 

@@ -83,7 +83,7 @@ inline T pow_positive(const T& x, const T& y) {
     const T xs = lane::select(tiny, x * T(0x1p24f), x);
     const auto bits = float_bits(xs);
     using Ints = std::decay_t<decltype(bits)>;
-    T e = int_to_float((bits >> 23) - Ints(127)) - lane::select(tiny, T(24), T(0));
+    T e = int_to_float((bits >> 23) - Ints(127)) - lane::keep(tiny, T(24));
     T m = bits_float((bits & Ints(0x007fffff)) | Ints(0x3f800000));  // [1, 2)
     const Mask<T> upper = m > T(1.41421356f);
     m = lane::select(upper, m * T(0.5f), m);  // exact
