@@ -220,7 +220,7 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     r.tmin = load<T>(rp.tmin, lane);
     r.tmax = load<T>(rp.tmax, lane);
     const Mask<T> active = load_mask<T>(rp.active, lane);
-    const T dd = fdot(r.d, r.d);
+    T dd = fdot(r.d, r.d);
     const Mask<T> finite = lane::isfinite(r.o.x) && lane::isfinite(r.o.y) && lane::isfinite(r.o.z) &&
                            lane::isfinite(r.d.x) && lane::isfinite(r.d.y) && lane::isfinite(r.d.z);
     // dd must be a normal float with a normal reciprocal: a zero or subnormal
@@ -230,16 +230,16 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     r.valid = active && finite && usable_d && interval;
     r.invalid = active && lane::not_(r.valid);
     masked += lane::count(r.invalid);
-    if (lane::all(r.valid)) {  // the usual packet: nothing to replace
-        finish_ray(r, dd);
-        return r;
+    // Replace what was masked off by a ray that hits nothing it could poison
+    // (the usual packet has nothing to replace).
+    if (!lane::all(r.valid)) {
+        r.o = {lane::keep(r.valid, r.o.x), lane::keep(r.valid, r.o.y), lane::keep(r.valid, r.o.z)};
+        r.d = {lane::keep(r.valid, r.d.x), lane::keep(r.valid, r.d.y), lane::select(r.valid, r.d.z, T(1))};
+        r.tmin = lane::keep(r.valid, r.tmin);
+        r.tmax = lane::keep(r.valid, r.tmax);  // empty interval: no hit can be accepted
+        dd = lane::select(r.valid, dd, T(1));
     }
-    // Replace what was masked off by a ray that hits nothing it could poison.
-    r.o = {lane::keep(r.valid, r.o.x), lane::keep(r.valid, r.o.y), lane::keep(r.valid, r.o.z)};
-    r.d = {lane::keep(r.valid, r.d.x), lane::keep(r.valid, r.d.y), lane::select(r.valid, r.d.z, T(1))};
-    r.tmin = lane::keep(r.valid, r.tmin);
-    r.tmax = lane::keep(r.valid, r.tmax);  // empty interval: no hit can be accepted
-    finish_ray(r, lane::select(r.valid, dd, T(1)));
+    finish_ray(r, dd);
     return r;
 }
 
