@@ -790,14 +790,14 @@ inline Vec3<T> type_normal(const PacketScene& s, const Lookup<T>& at, const Vec3
     }
 }
 
-// Unit geometric normal at p for the lanes of `hit`, whose hit has compiled
-// id `cid` (`at`: the lookup of cid on those lanes, which the caller's stores
-// share); other lanes get an unspecified normal (the caller drops them).
+// Unit geometric normal at p for the lanes of `hit`, whose hits' compiled ids
+// `at` looks up (at.idx; the caller's id stores share the lookup); other
+// lanes get an unspecified normal (the caller drops them).
 // A coherent packet's hit lanes mostly share one primitive: then only that
 // type's normal is computed, from its broadcast data; else each type present
 // computes its lanes' normals from gathered data.
 template <class T, unsigned F>
-inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Lookup<T>& at, const Vec3<T>& p, const Mask<T>& hit,
+inline Vec3<T> hit_normal(const PacketScene& s, const Lookup<T>& at, const Vec3<T>& p, const Mask<T>& hit,
                           const Vec3<T>& d) {
     Vec3<T> n{T(0), T(0), T(1)};
     if (!lane::any(hit)) return n;
@@ -811,6 +811,7 @@ inline Vec3<T> hit_normal(const PacketScene& s, const T& cid, const Lookup<T>& a
         });
         return n;
     }
+    const T& cid = at.idx;
     for_each_primitive_type<F>(s, [&](auto tag, int count) {
         constexpr PrimitiveType type = decltype(tag)::value;
         const int base = s.offset[int(type)];
@@ -831,7 +832,7 @@ inline int intersect_lanes(const PacketScene& s, const RayPacket8& rp, HitPacket
     const T cid = lane::keep(hit, best.cid);
     const Vec3<T> p = r.o + r.d * best.t;
     const Lookup<T> at(cid, hit);
-    Vec3<T> n = hit_normal<T, F>(s, cid, at, p, hit, r.d);
+    Vec3<T> n = hit_normal<T, F>(s, at, p, hit, r.d);
     // Face-forward (two-sided shading): the normal opposes the ray.
     const Mask<T> away = fdot(n, r.d) > T(0);
     n = {lane::select(away, T(0) - n.x, n.x), lane::select(away, T(0) - n.y, n.y), lane::select(away, T(0) - n.z, n.z)};
