@@ -5,10 +5,10 @@
 // Precision::f64: 8 double lanes, one zmm register per packet. Built with
 // -mavx512f -mavx512vl -mfma; only reached after a run-time CPU check, and
 // preferred to the AVX2 unit where the CPU has both. With 16 registers the
-// AVX2 unit's sphere loop keeps ray fields and centres on the stack (17 of
-// its 90 instructions a test); timed, the end-to-end SIMD render ran at
-// 0.84-1.21x of the AVX2 unit's speed over six runs of bench/'s *_avx2 rows,
-// within this VM's noise (docs/API.md).
+// AVX2 unit's sphere loop keeps ray fields and centres on the stack (24 of
+// its 90 instructions a test are stack loads, stores and register copies);
+// timed, the end-to-end SIMD render ran at 0.84-1.13x of the AVX2 unit's
+// speed in three bench-report runs, within this VM's noise (README).
 #define OCTRAY_ISA avx512_simd
 #include "packet_kernels.hpp"
 #include "isa_instantiate.hpp"
