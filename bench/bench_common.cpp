@@ -1,6 +1,8 @@
 // bench/bench_common.cpp — scenes, ray sets, FLOP accounting, counters, main.
 #include "bench_common.hpp"
 
+#include "scene_data.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -81,7 +83,7 @@ constexpr double kBoxSetup = 3, kTriangleSetup = 5;
 constexpr double kTestFlops[kPrimitiveTypeCount] = {40, 14, 28, 33, 12, 60};
 constexpr double kNormalFlops[kPrimitiveTypeCount] = {7, 1, 1, 1, 19, 1};
 
-double all_tests(const PacketScene& s) {
+double all_tests(const SceneData& s) {
     double f = 0;
     for (int t = 0; t < kPrimitiveTypeCount; ++t) f += double(s.count[std::size_t(t)]) * kTestFlops[t];
     return f;
@@ -89,7 +91,8 @@ double all_tests(const PacketScene& s) {
 
 }  // namespace
 
-double intersect_flops_per_ray(const PacketScene& s) {
+double intersect_flops_per_ray(const PacketScene& scene) {
+    const SceneData& s = scene.data();
     double normal = 0;
     for (int t = 0; t < kPrimitiveTypeCount; ++t)
         if (s.count[std::size_t(t)] > 0) normal = std::max(normal, kNormalFlops[t]);
@@ -110,7 +113,8 @@ double intersect_flops_per_ray(const PacketScene& s) {
 // r2*inv_r 1 = 24),
 // and any_hit's tests of every primitive (counted in full: an upper bound,
 // any_hit stops early once all lanes are blocked).
-double shade_flops_per_ray(const PacketScene& s) {
+double shade_flops_per_ray(const PacketScene& scene) {
+    const SceneData& s = scene.data();
     double f = 6 + 3;
     if (s.features.has(kAmbient)) f += 3;
     f += 11.0 * s.directional_count + 22.0 * s.point_count + 24.0 * s.point_attenuated_count;
@@ -223,8 +227,8 @@ Scene nested_spheres_scene(int n, int width, int height) {
 
 RaySet camera_rays(const PacketScene& scene) {
     RaySet set;
-    set.width = scene.camera.width;
-    set.height = scene.camera.height;
+    set.width = scene.width();
+    set.height = scene.height();
     const Kernel k = select_kernel(scene, Path::simd);
     for (int y = 0; y < set.height; ++y)
         for (int x0 = 0; x0 < set.width; x0 += kPacketWidth) {

@@ -21,6 +21,8 @@
 #include <octray/packet_scene.hpp>
 #include <octray/scene.hpp>
 
+#include "aligned.hpp"
+
 #include <benchmark/benchmark.h>
 
 #include <cstdint>

@@ -26,6 +26,8 @@
 // ns_per_ray, flops_per_ray, GFLOPS and frac_peak (bench_common.hpp).
 #include "bench_common.hpp"
 
+#include "scene_data.hpp"
+
 #include <scene_loader.hpp>
 
 #include <algorithm>
@@ -120,7 +122,7 @@ void bm_intersect(benchmark::State& st, Layout layout, int n, Path path) {
 void time_unculled(benchmark::State& st, const Fixture& f, Path path, Isa isa = Isa::best) {
     if (!check(st, f)) return;
     PacketScene all = f.scene;
-    for (ClusterTree& c : all.clusters) c.disable_culling();
+    for (ClusterTree& c : mutable_data(all).clusters) c.disable_culling();
     time_intersect(st, select_kernel(all, path, Precision::exact, isa), all, f.rays);
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }
@@ -212,8 +214,8 @@ void bm_tonemap(benchmark::State& st, ToneMap mode, float gamma, Path path) {
     });
     if (!check(st, f)) return;
     PacketScene scene = f.scene;  // same data; only the tone-map settings differ
-    scene.tonemap = mode;
-    scene.inv_gamma = 1.0f / gamma;
+    mutable_data(scene).tonemap = mode;
+    mutable_data(scene).inv_gamma = 1.0f / gamma;
     const Kernel k = select_kernel(scene, path);
     ColorPacket8 out;
     for (auto _ : st) {
@@ -227,8 +229,9 @@ void bm_tonemap(benchmark::State& st, ToneMap mode, float gamma, Path path) {
 }
 
 // ---- end to end on scenes/default.json -----------------------------------------
-double e2e_flops(const PacketScene& s) {
-    return camera_flops_per_ray(s.camera.orthographic) + intersect_flops_per_ray(s) + shade_flops_per_ray(s) +
+double e2e_flops(const PacketScene& scene) {
+    const SceneData& s = scene.data();
+    return camera_flops_per_ray(s.camera.orthographic) + intersect_flops_per_ray(scene) + shade_flops_per_ray(scene) +
            tonemap_flops_per_ray(s.tonemap, s.inv_gamma != 1.0f);
 }
 
@@ -236,7 +239,7 @@ void bm_render_rows(benchmark::State& st, Precision precision, Path path, Isa is
     const Fixture& f = default_fixture();
     if (!check(st, f)) return;
     const Kernel k = select_kernel(f.scene, path, precision, isa);
-    const int w = f.scene.camera.width, h = f.scene.camera.height;
+    const int w = f.scene.width(), h = f.scene.height();
     Image<float> hdr(w, h), display(w, h);
     for (auto _ : st) {
         render_rows(k, f.scene, 0, h, hdr, &display);
@@ -251,7 +254,7 @@ void bm_pipeline(benchmark::State& st, Path path) {
     const Fixture& f = default_fixture();
     if (!check(st, f)) return;
     const Kernel k = select_kernel(f.scene, path);
-    const int w = f.scene.camera.width, h = f.scene.camera.height;
+    const int w = f.scene.width(), h = f.scene.height();
     RayPacket8 rays;
     HitPacket8 hits;
     ColorPacket8 radiance, shown;

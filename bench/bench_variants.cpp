@@ -4,7 +4,7 @@
 //   dispatched  select_kernel(): the variant specialized to the scene's features;
 //   hand        a kernel written here by hand for exactly that subset: explicit
 //               loops over the present primitive and light types, nothing else,
-//               from the same building blocks (sphere_t, plane_t, ...,
+//               from the same building blocks (intersect_sphere, intersect_plane, ...,
 //               for_each_candidate's cluster culling);
 //   general     general_kernel(): every feature compiled in, absent ones skipped
 //               at run time (zero-trip loops, ambient of zero, ...).
@@ -14,10 +14,11 @@
 // with -mavx2 -mfma, so the library's kernels are pinned to its AVX2 unit
 // (Isa::avx2) too: the comparison is of features, not of instruction sets.
 #define OCTRAY_ISA bench_hand
-#include "../kernels/packet_kernels.hpp"
+#include "packet_kernels.hpp"
 
 #include "bench_common.hpp"
 #include "scene_loader.hpp"
+#include "support.hpp"
 
 #include <octray/kernels.hpp>
 
@@ -37,7 +38,7 @@ using M = lane::Mask<T>;
 
 // ---- hand-written pieces ------------------------------------------------------
 // Stores a closest hit whose geometric normal `n` the caller computed.
-void store_hit(const PacketScene& s, const Ray<T, P>& r, const Closest<T>& best, Vec3<T> n, HitPacket8& hp) {
+void store_hit(const SceneData& s, const Ray<T, P>& r, const Closest<T>& best, Vec3<T> n, HitPacket8& hp) {
     const T &t = best.t, &cid = best.cid;
     const M hit = r.valid && cid >= T(0);
     const T k = lane::select(hit, cid, T(0));
@@ -61,14 +62,15 @@ Lookup<T> hit_lookup(const Closest<T>& best) {
 }
 
 // Spheres only; compiled id k = sphere k.
-int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
+int intersect_spheres(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
+    const SceneData& s = scene.data();
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
+        const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
         best.take(hit, t, k);
     });
     const Lookup<T> at = hit_lookup(best);
@@ -78,14 +80,15 @@ int intersect_spheres(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp
 }
 
 // Planes only.
-int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
+int intersect_planes(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
+    const SceneData& s = scene.data();
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const PlaneArrays& a = s.planes;
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = plane_t(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
+        const T t = intersect_plane(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
         best.take(hit, t, k);
     });
     const Lookup<T> at = hit_lookup(best);
@@ -94,7 +97,8 @@ int intersect_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp)
 }
 
 // Spheres, then planes (compiled ids: spheres first).
-int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
+int intersect_spheres_planes(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
+    const SceneData& s = scene.data();
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
@@ -102,12 +106,12 @@ int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPack
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = sphere_t(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
+        const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
         best.take(hit, t, k);
     });
     for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = plane_t(r, broadcast3<T>(b.px, b.py, b.pz, k), broadcast3<T>(b.nx, b.ny, b.nz, k), hit, best.t);
+        const T t = intersect_plane(r, broadcast3<T>(b.px, b.py, b.pz, k), broadcast3<T>(b.nx, b.ny, b.nz, k), hit, best.t);
         best.take(hit, t, s.offset[1] + k);
     });
     const T& cid = best.cid;
@@ -125,14 +129,15 @@ int intersect_spheres_planes(const PacketScene& s, const RayPacket8& rp, HitPack
 }
 
 // Triangles only.
-int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
+int intersect_triangles(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
+    const SceneData& s = scene.data();
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const TriangleArrays& a = s.triangles;
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::triangle>(s, s.count[5], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = triangle_t(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
+        const T t = intersect_triangle(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
                                broadcast3<T>(a.x2, a.y2, a.z2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
         best.take(hit, t, k);
     });
@@ -142,14 +147,15 @@ int intersect_triangles(const PacketScene& s, const RayPacket8& rp, HitPacket8& 
 }
 
 // Boxes only; the face normal from the hit point as in the library kernel.
-int intersect_boxes(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
+int intersect_boxes(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
+    const SceneData& s = scene.data();
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const BoxArrays& a = s.boxes;
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::box>(s, s.count[4], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = box_t(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit, best.t);
+        const T t = intersect_box(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit, best.t);
         best.take(hit, t, k);
     });
     const Lookup<T> at = hit_lookup(best);
@@ -180,12 +186,12 @@ Surface surface(const RayPacket8& rp, const HitPacket8& hp) {
     f.m = lane::select(f.hit, load_index<T>(hp.material, 0), T(0));
     return f;
 }
-void store_color(const PacketScene& s, const Surface& f, const Vec3<T>& c, ColorPacket8& out) {
+void store_color(const SceneData& s, const Surface& f, const Vec3<T>& c, ColorPacket8& out) {
     store(out.r, 0, lane::select(f.hit, c.x, T(s.background[0])));
     store(out.g, 0, lane::select(f.hit, c.y, T(s.background[1])));
     store(out.b, 0, lane::select(f.hit, c.z, T(s.background[2])));
 }
-Vec3<T> directional_sum(const PacketScene& s, const Surface& f) {
+Vec3<T> directional_sum(const SceneData& s, const Surface& f) {
     const DirectionalArrays& a = s.directional;
     Vec3<T> e{T(0), T(0), T(0)};
     for (int k = 0; k < s.directional_count; ++k) {
@@ -196,12 +202,14 @@ Vec3<T> directional_sum(const PacketScene& s, const Surface& f) {
 }
 
 // directional lights, no ambient
-void shade_directional(const PacketScene& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+void shade_directional(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+    const SceneData& s = scene.data();
     const Surface f = surface(rp, hp);
     store_color(s, f, hadamard(Lookup<T>(f.m, f.hit)(s.diffuse_r, s.diffuse_g, s.diffuse_b), directional_sum(s, f)), out);
 }
 // ambient + directional lights
-void shade_ambient_directional(const PacketScene& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+void shade_ambient_directional(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+    const SceneData& s = scene.data();
     const Surface f = surface(rp, hp);
     const Lookup<T> material(f.m, f.hit);
     const Vec3<T> c = hadamard(material(s.diffuse_r, s.diffuse_g, s.diffuse_b), directional_sum(s, f)) +
@@ -210,7 +218,8 @@ void shade_ambient_directional(const PacketScene& s, const RayPacket8& rp, const
 }
 // point lights, with or without 1/r^2, no ambient
 template <bool Attenuated>
-void shade_point(const PacketScene& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+void shade_point(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+    const SceneData& s = scene.data();
     const Surface f = surface(rp, hp);
     const PointArrays& a = Attenuated ? s.point_attenuated : s.point;
     const int count = Attenuated ? s.point_attenuated_count : s.point_count;
@@ -236,16 +245,7 @@ struct Subset {
     ShadeFn hand_shade;
 };
 
-Scene base_scene() {
-    Scene s;
-    s.camera.eye = {0, 6, 14};
-    s.camera.look_at = {0, 0, 0};
-    s.camera.width = 256;
-    s.camera.height = 192;
-    s.background = {0.1, 0.1, 0.2};
-    s.materials = {Material{"a", 0.3, 0.6, {0.9, 0.4, 0.2}}, Material{"b", 0.2, 0.7, {0.2, 0.5, 0.9}}};
-    return s;
-}
+Scene base_scene() { return test::two_material_scene({0, 6, 14}, 256, 192, {0.1, 0.1, 0.2}); }
 void grid(Scene& s, int n, const std::function<Shape(double, double)>& make) {
     const int side = int(std::ceil(std::sqrt(double(n))));
     for (int i = 0; i < n; ++i) {

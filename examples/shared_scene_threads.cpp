@@ -110,7 +110,7 @@ int main() {
     }
 
     // The library's own tile loop, rows split across threads.
-    const int w = scene.camera.width, h = scene.camera.height;
+    const int w = scene.width(), h = scene.height();
     octray::Image<float> hdr1(w, h), hdrN(w, h);
     octray::RenderCounters c1;
     octray::render_rows(k, scene, 0, h, hdr1, nullptr, &c1);

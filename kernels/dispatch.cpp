@@ -29,12 +29,11 @@ namespace {
 bool always() { return true; }
 }  // namespace
 
+// The table, from the same list as the units themselves (CMakeLists.txt).
 const Unit kUnits[] = {
-    {Path::simd, "avx512", &avx512_supported, &simd_avx512_kernel, &simd_avx512_blocks, kAvx512UnitModes},
-    {Path::simd, "avx2", &simd_supported, &simd_avx2_kernel, &simd_avx2_blocks, kBaseModes},
-    {Path::scalar, "avx512", &avx512_supported, &scalar_avx512_kernel, &scalar_avx512_blocks, kAvx512UnitModes},
-    {Path::scalar, "avx2", &simd_supported, &scalar_avx2_kernel, &scalar_avx2_blocks, kBaseModes},
-    {Path::scalar, "generic", &always, &scalar_generic_kernel, &scalar_generic_blocks, kBaseModes},
+#define OCTRAY_UNIT(name, path, isa, cpu_check, modes) {Path::path, isa, &cpu_check, &name##_kernel, &name##_blocks, modes},
+#include "isa_units.inc"
+#undef OCTRAY_UNIT
 };
 const int kUnitCount = int(sizeof kUnits / sizeof kUnits[0]);
 
@@ -58,13 +57,13 @@ Kernel make(Path path, Precision precision, unsigned primitive_bits, unsigned li
                 return u.kernel(precision, primitive_bits, light_bits);
         }
     }
-    return kernels::scalar_generic_kernel(Precision::exact, kAllFeatures, kAllFeatures);  // not reached
+    return kernels::generic_scalar_kernel(Precision::exact, kAllFeatures, kAllFeatures);  // not reached
 }
 
 }  // namespace
 
 Kernel select_kernel(const PacketScene& scene, Path path, Precision precision, Isa isa) {
-    const unsigned bits = scene.features.bits;
+    const unsigned bits = scene.features().bits;
     return make(path, precision, bits & kAllPrimitives, bits & ~kAllPrimitives, isa);
 }
 
@@ -110,7 +109,7 @@ void render_rows(const Kernel& k, const PacketScene& scene, int y0, int y1, Imag
     HitPacket8 hits;
     ColorPacket8 radiance, shown;
     RenderCounters local;
-    const int width = scene.camera.width;
+    const int width = scene.width();
     for (int y = y0; y < y1; ++y) {
         for (int x0 = 0; x0 < width; x0 += kPacketWidth) {
             k.camera(scene, x0, y, rays);

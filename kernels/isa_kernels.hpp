@@ -21,16 +21,6 @@ inline constexpr unsigned kBaseModes =
 inline constexpr unsigned kAvx512Modes = mode_bit(Precision::fast14) | mode_bit(Precision::approx14);
 inline constexpr unsigned kAvx512UnitModes = kBaseModes | kAvx512Modes;
 
-// `primitive_bits` / `light_bits` are FeatureBit sets; pass kAllFeatures for
-// the general kernel. A mode the unit does not compile gives an empty Kernel.
-Kernel simd_avx2_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
-Kernel scalar_avx2_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
-// AVX-512 F+VL: every mode (exact specialized on features, as AVX2's).
-Kernel simd_avx512_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
-Kernel scalar_avx512_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
-// Baseline x86-64 (no AVX2): the scalar path, general variant only.
-Kernel scalar_generic_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
-
 // The precision building blocks as the kernels compute them (same lane type,
 // same lane functions, same ISA flags), over float arrays whose length is a
 // multiple of kPacketWidth. For tests; nullptr members where a unit does not
@@ -43,11 +33,17 @@ struct Blocks {
     void (*ndotl)(const float* const n[3], const float* const v[3], float* out, int count) noexcept = nullptr;  // (n.v) * rsqrt(v.v)
     void (*pow)(const float* x, const float* y, float* out, int n) noexcept = nullptr;  // x^y, x > 0: the tone map's gamma
 };
-Blocks simd_avx2_blocks(Precision precision);
-Blocks scalar_avx2_blocks(Precision precision);
-Blocks simd_avx512_blocks(Precision precision);
-Blocks scalar_avx512_blocks(Precision precision);
-Blocks scalar_generic_blocks(Precision precision);
+
+// Each unit (one per line of octray_isa_unit in CMakeLists.txt, listed in
+// the generated isa_units.inc as OCTRAY_UNIT(name, path, isa, cpu_check,
+// modes)) provides name_kernel and name_blocks. `primitive_bits` /
+// `light_bits` are FeatureBit sets; pass kAllFeatures for the general kernel.
+// A mode the unit does not compile gives an empty Kernel.
+#define OCTRAY_UNIT(name, path, isa, cpu_check, modes)                                  \
+    Kernel name##_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits); \
+    Blocks name##_blocks(Precision precision);
+#include "isa_units.inc"
+#undef OCTRAY_UNIT
 
 
 // One translation unit's kernels: what it runs, where, and how to get them.

@@ -1,5 +1,5 @@
 // kernels/packet_scene.cpp — Scene (AoS, double) -> PacketScene (SoA, float).
-#include <octray/packet_scene.hpp>
+#include "scene_data.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -31,10 +31,6 @@ void pad(A&... arrays) {
 }
 
 // A sphere that contains the primitive (none for the unbounded plane).
-struct Bound {
-    Vec3d center;
-    double radius = 0;
-};
 std::optional<Bound> bound_of(const Shape& shape) {
     return std::visit(
         [](const auto& p) -> std::optional<Bound> {
@@ -59,66 +55,6 @@ std::optional<Bound> bound_of(const Shape& shape) {
             }
         },
         shape);
-}
-
-// Appends the bounding sphere of members [first, last) to (x, y, z, radius):
-// centred on their bounding box, radius rounded up to a float that contains
-// them all.
-void enclose(const std::vector<Bound>& members, std::size_t first, std::size_t last, Floats& x, Floats& y, Floats& z,
-             Floats& radius) {
-    Vec3d lo = members[first].center, hi = lo;
-    for (std::size_t i = first; i < last; ++i) {
-        const Bound& b = members[i];
-        lo = {std::min(lo.x, b.center.x - b.radius), std::min(lo.y, b.center.y - b.radius), std::min(lo.z, b.center.z - b.radius)};
-        hi = {std::max(hi.x, b.center.x + b.radius), std::max(hi.y, b.center.y + b.radius), std::max(hi.z, b.center.z + b.radius)};
-    }
-    const Vec3f c{float((lo.x + hi.x) / 2), float((lo.y + hi.y) / 2), float((lo.z + hi.z) / 2)};
-    double r = 0;
-    for (std::size_t i = first; i < last; ++i)
-        r = std::max(r, std::sqrt(length_squared(members[i].center - Vec3d(c))) + members[i].radius);
-    x.push_back(c.x), y.push_back(c.y), z.push_back(c.z);
-    radius.push_back(std::nextafter(float(r * (1 + 1e-6)), std::numeric_limits<float>::infinity()));
-}
-
-// Appends a node (a leaf until build_node says otherwise) around members [first, last).
-void append_node(const std::vector<Bound>& members, std::size_t first, std::size_t last, ClusterTree& out) {
-    enclose(members, first, last, out.cx, out.cy, out.cz, out.radius);
-    out.first_child.push_back(-1), out.child_count.push_back(0), out.cluster.push_back(-1);
-}
-
-// Node `node` (already appended) spans clusters [first, last): a leaf for one
-// cluster, else the parent of up to kTreeWidth runs of g clusters, g the
-// smallest power of kTreeWidth that needs no more runs; the runs' nodes are
-// appended together, then each is built. A node's bound encloses its
-// primitives directly (tighter than a sphere around its children's spheres).
-void build_node(const std::vector<Bound>& members, std::size_t node, int first, int last, ClusterTree& out) {
-    const int n = last - first;
-    if (n == 1) {
-        out.cluster[node] = first;
-        return;
-    }
-    int g = 1;
-    while (g * kTreeWidth < n) g *= kTreeWidth;
-    const int children = (n + g - 1) / g;
-    const std::size_t first_child = out.first_child.size();
-    out.first_child[node] = std::int32_t(first_child);
-    out.child_count[node] = children;
-    for (int c = 0; c < children; ++c)
-        append_node(members, std::size_t(first + c * g) * kClusterSize,
-                    std::min(members.size(), std::size_t(std::min(first + (c + 1) * g, last)) * kClusterSize), out);
-    for (int c = 0; c < children; ++c)
-        build_node(members, first_child + std::size_t(c), first + c * g, std::min(first + (c + 1) * g, last), out);
-}
-
-void build_clusters(const std::vector<Bound>& members, ClusterTree& out) {
-    const int clusters = int((members.size() + kClusterSize - 1) / kClusterSize);
-    if (clusters == 0) return;
-    append_node(members, 0, members.size(), out);
-    build_node(members, 0, 0, clusters, out);
-    for (std::size_t i = 0; i < members.size(); ++i) enclose(members, i, i + 1, out.px, out.py, out.pz, out.pradius);
-    // Padding: a block of kTreeWidth children (or primitives) loads whole.
-    for (Floats* a : {&out.cx, &out.cy, &out.cz, &out.radius, &out.px, &out.py, &out.pz, &out.pradius})
-        a->insert(a->end(), kTreeWidth, 0.0f);
 }
 
 // 30-bit Morton code of a point in [0,1]^3 (10 bits per axis, interleaved).
@@ -166,35 +102,22 @@ std::vector<std::size_t> spatial_order(const Scene& scene) {
 
 }  // namespace
 
-Features features_of(const Scene& scene) {
-    Features f;
-    for (const Object& o : scene.objects) f.bits |= 1u << unsigned(primitive_type(o.shape));
-    if (scene.ambient) f.bits |= kAmbient;
-    for (const DirectionalLight& l : scene.directional_lights) {
-        f.bits |= kDirectional;
-        if (l.shadows) f.bits |= kShadows;
-    }
-    for (const PointLight& l : scene.point_lights) {
-        f.bits |= l.attenuation == Attenuation::inverse_square ? kPointAttenuated : kPoint;
-        if (l.shadows) f.bits |= kShadows;
-    }
-    f.tonemap = scene.render.tonemap;
-    f.gamma = scene.render.gamma != 1.0;
-    return f;
-}
+PacketScene::PacketScene() : data_(std::make_shared<SceneData>()) {}
 
-std::string feature_string(unsigned bits) {
-    static constexpr const char* names[] = {"sphere",  "plane",       "disk",  "rectangle",
-                                            "box",     "triangle",    "ambient", "directional",
-                                            "point",   "point_attenuated", "shadows"};
-    std::string prims, lights;
-    for (unsigned i = 0; i < 11; ++i) {
-        if ((bits & (1u << i)) == 0) continue;
-        std::string& s = i < 6 ? prims : lights;
-        if (!s.empty()) s += '+';
-        s += names[i];
-    }
-    return (prims.empty() ? "no primitives" : prims) + " | " + (lights.empty() ? "no lights" : lights);
+const Features& PacketScene::features() const noexcept { return data_->features; }
+int PacketScene::count(PrimitiveType type) const noexcept { return data_->count[std::size_t(type)]; }
+int PacketScene::primitive_count() const noexcept {
+    int n = 0;
+    for (const int c : data_->count) n += c;
+    return n;
+}
+int PacketScene::width() const noexcept { return data_->camera.width; }
+int PacketScene::height() const noexcept { return data_->camera.height; }
+
+SceneData& mutable_data(PacketScene& scene) {
+    // Copy on write: the copies of a PacketScene share its data.
+    if (scene.data_.use_count() != 1) scene.data_ = std::make_shared<SceneData>(*scene.data_);
+    return *scene.data_;
 }
 
 PacketScene compile(const Scene& scene) {
@@ -203,7 +126,8 @@ PacketScene compile(const Scene& scene) {
         throw std::invalid_argument("octray::compile: more than 2^24 objects or materials");
     validate(scene);
 
-    PacketScene s;
+    PacketScene compiled;
+    SceneData& s = *compiled.data_;
     s.features = features_of(scene);
     for (const Object& o : scene.objects) ++s.count[std::size_t(primitive_type(o.shape))];
     for (int t = 1; t < kPrimitiveTypeCount; ++t) s.offset[std::size_t(t)] = s.offset[std::size_t(t - 1)] + s.count[std::size_t(t - 1)];
@@ -224,7 +148,6 @@ PacketScene compile(const Scene& scene) {
                 if constexpr (std::is_same_v<P, Sphere>) {
                     auto& a = s.spheres;
                     push3(a.cx, a.cy, a.cz, p.center);
-                    push(a.radius2, p.radius * p.radius);
                     push(a.inv_radius, 1.0 / p.radius);
                     push(a.radius, p.radius);
                 } else if constexpr (std::is_same_v<P, Plane>) {
@@ -259,9 +182,9 @@ PacketScene compile(const Scene& scene) {
             },
             o.shape);
     }
-    for (int t = 0; t < kPrimitiveTypeCount; ++t) build_clusters(bounds[std::size_t(t)], s.clusters[std::size_t(t)]);
+    for (int t = 0; t < kPrimitiveTypeCount; ++t) s.clusters[std::size_t(t)] = build_cluster_tree(bounds[std::size_t(t)]);
     // The per-type arrays were filled in spatial_order, which is type-major like the compiled ids.
-    pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.radius2, s.spheres.inv_radius, s.spheres.radius);
+    pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.inv_radius, s.spheres.radius);
     pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
     pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);
     auto& r = s.rectangles;
@@ -319,7 +242,7 @@ PacketScene compile(const Scene& scene) {
     pc.scale_x = float(half * c.width / c.height);
     pc.width = c.width;
     pc.height = c.height;
-    return s;
+    return compiled;
 }
 
 }  // namespace octray

@@ -7,7 +7,7 @@
 
 #include <doctest/doctest.h>
 
-#include <octray/lane.hpp>
+#include "lane.hpp"
 
 #include <cmath>
 #include <cstdint>

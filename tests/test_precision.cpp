@@ -6,13 +6,13 @@
 
 #include "scene_files.hpp"
 
-#include "../kernels/isa_kernels.hpp"
+#include "isa_kernels.hpp"
 #include "errtime.hpp"
 #include "scene_loader.hpp"
 #include "verify.hpp"
 
 #include <octray/kernels.hpp>
-#include <octray/lane_pow.hpp>
+#include "lane_pow.hpp"
 #include <octray/reference.hpp>
 
 #include <algorithm>

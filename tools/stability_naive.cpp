@@ -4,6 +4,8 @@
 // time, over the same compiled scene the kernels read.
 #include "stability_cases.hpp"
 
+#include "scene_data.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -76,7 +78,8 @@ float triangle(V o, V d, V a, V b, V c) {
 
 }  // namespace
 
-int naive_intersect(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) noexcept {
+int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
+    const SceneData& s = scene.data();
     for (int i = 0; i < 8; ++i) {
         const V o{rp.ox[i], rp.oy[i], rp.oz[i]}, d{rp.dx[i], rp.dy[i], rp.dz[i]};
         float best = rp.tmax[i];
@@ -88,7 +91,8 @@ int naive_intersect(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) 
         if (rp.active[i] != 0) {
             for (int k = 0; k < s.count[0]; ++k) {
                 const V c = at(s.spheres.cx, s.spheres.cy, s.spheres.cz, k);
-                const float t = sphere(o, d, c, s.spheres.radius2[std::size_t(k)]);
+                const double radius = s.spheres.radius[std::size_t(k)];
+                const float t = sphere(o, d, c, float(radius * radius));
                 take(t, s.offset[0] + k, (o + d * t - c) * s.spheres.inv_radius[std::size_t(k)]);
             }
             for (int k = 0; k < s.count[1]; ++k) {
@@ -141,7 +145,8 @@ int naive_intersect(const PacketScene& s, const RayPacket8& rp, HitPacket8& hp) 
     return 0;  // the textbook checks no input
 }
 
-void naive_shade(const PacketScene& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+void naive_shade(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+    const SceneData& s = scene.data();
     for (int i = 0; i < 8; ++i) {
         if (hp.hit[i] == 0 || rp.active[i] == 0) {
             out.r[i] = s.background[0], out.g[i] = s.background[1], out.b[i] = s.background[2];

@@ -93,7 +93,7 @@ ReferenceRender render_reference(const Scene& scene) {
 
 PacketRender render_packet(const Kernel& kernel, const PacketScene& scene, int threads, Progress* progress,
                            Image<float>* display) {
-    const int w = scene.camera.width, h = scene.camera.height;
+    const int w = scene.width(), h = scene.height();
     PacketRender out;
     out.radiance = Image<float>(w, h);
     out.primitive.assign(std::size_t(w) * std::size_t(h), -1);

@@ -4,15 +4,13 @@
 //
 // Scene authoring types (scene.hpp), the compiled SoA scene (packet_scene.hpp),
 // ray/hit/colour packets (packet.hpp), the kernel table and its dispatch
-// (kernels.hpp), precision modes, features, lane vocabulary, images and the
+// (kernels.hpp), precision modes, features, images and the
 // scalar double reference renderer. docs/API.md explains how to use them.
 #pragma once
 
 #include <octray/features.hpp>
 #include <octray/image.hpp>
 #include <octray/kernels.hpp>
-#include <octray/lane.hpp>
-#include <octray/lane_pow.hpp>
 #include <octray/packet.hpp>
 #include <octray/packet_scene.hpp>
 #include <octray/precision.hpp>

@@ -1,4 +1,4 @@
-// octray/lane.hpp — one vocabulary for scalar and SIMD lanes.
+// kernels/lane.hpp — one vocabulary for scalar and SIMD lanes.
 //
 // Kernels are written once over a lane type T: `float` or `double` (one lane)
 // or `xsimd::batch<float|double, A>` (many lanes). Every operation a kernel

@@ -1,4 +1,4 @@
-// octray/lane_pow.hpp — x^y for positive float lanes, one code for every T.
+// kernels/lane_pow.hpp — x^y for positive float lanes, one code for every T.
 //
 // The tone map's gamma step (DESIGN.md: c^(1/gamma)) on float lanes. libm's
 // powf (the scalar path) and xsimd 8.1's pow (the SIMD path) are different
@@ -24,7 +24,7 @@
 // before, NaN never reaches it).
 #pragma once
 
-#include <octray/lane.hpp>
+#include "lane.hpp"
 
 #include <cstdint>
 #include <cstring>

@@ -1,0 +1,37 @@
+// kernels/features.cpp — what a scene uses (features.hpp), and its name for humans.
+#include <octray/features.hpp>
+
+namespace octray {
+
+Features features_of(const Scene& scene) {
+    Features f;
+    for (const Object& o : scene.objects) f.bits |= 1u << unsigned(primitive_type(o.shape));
+    if (scene.ambient) f.bits |= kAmbient;
+    for (const DirectionalLight& l : scene.directional_lights) {
+        f.bits |= kDirectional;
+        if (l.shadows) f.bits |= kShadows;
+    }
+    for (const PointLight& l : scene.point_lights) {
+        f.bits |= l.attenuation == Attenuation::inverse_square ? kPointAttenuated : kPoint;
+        if (l.shadows) f.bits |= kShadows;
+    }
+    f.tonemap = scene.render.tonemap;
+    f.gamma = scene.render.gamma != 1.0;
+    return f;
+}
+
+std::string feature_string(unsigned bits) {
+    static constexpr const char* names[] = {"sphere",  "plane",       "disk",  "rectangle",
+                                            "box",     "triangle",    "ambient", "directional",
+                                            "point",   "point_attenuated", "shadows"};
+    std::string prims, lights;
+    for (unsigned i = 0; i < 11; ++i) {
+        if ((bits & (1u << i)) == 0) continue;
+        std::string& s = i < 6 ? prims : lights;
+        if (!s.empty()) s += '+';
+        s += names[i];
+    }
+    return (prims.empty() ? "no primitives" : prims) + " | " + (lights.empty() ? "no lights" : lights);
+}
+
+}  // namespace octray

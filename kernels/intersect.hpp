@@ -1,0 +1,220 @@
+// kernels/intersect.hpp — closest hit and any hit over a compiled scene: the
+// six primitive tests dispatched by type over the candidates culling.hpp
+// yields, then the hit's normal, material and object id (intersect_packet);
+// shadow rays' any hit (occluded_packet).
+#pragma once
+
+#include "box.hpp"
+#include "culling.hpp"
+#include "planar.hpp"
+#include "sphere.hpp"
+#include "triangle.hpp"
+
+namespace octray::kernels::OCTRAY_ISA {
+
+// ---- closest hit -----------------------------------------------------------
+template <class T>
+struct Closest {
+    T t;    // tmax until something is hit
+    T cid;  // compiled id of the hit primitive (exact float), -1 on a miss
+
+    // Keeps the lanes of `hit` (a test accepted them for t' < t) at t' and id.
+    OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id) {
+        if (!lane::any(hit)) return;  // most tests miss on every lane
+        t = lane::select(hit, t_hit, t);
+        cid = lane::select(hit, T(float(id)), cid);
+    }
+};
+
+template <PrimitiveType Type>
+using TypeTag = std::integral_constant<PrimitiveType, Type>;
+
+// Calls body(TypeTag<type>, count) for each primitive type in F. Absent types
+// are removed at compile time; present ones loop over s.count.
+template <unsigned F, class Body>
+inline void for_each_primitive_type(const SceneData& s, Body&& body) {
+    if constexpr ((F & kSphere) != 0) body(TypeTag<PrimitiveType::sphere>{}, s.count[0]);
+    if constexpr ((F & kPlane) != 0) body(TypeTag<PrimitiveType::plane>{}, s.count[1]);
+    if constexpr ((F & kDisk) != 0) body(TypeTag<PrimitiveType::disk>{}, s.count[2]);
+    if constexpr ((F & kRectangle) != 0) body(TypeTag<PrimitiveType::rectangle>{}, s.count[3]);
+    if constexpr ((F & kBox) != 0) body(TypeTag<PrimitiveType::box>{}, s.count[4]);
+    if constexpr ((F & kTriangle) != 0) body(TypeTag<PrimitiveType::triangle>{}, s.count[5]);
+}
+
+// Tests primitive k of type `Type` (parameters broadcast from the scene arrays).
+template <PrimitiveType Type, class T, Precision P>
+OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
+    if constexpr (Type == PrimitiveType::sphere) {
+        const SphereArrays& a = s.spheres;
+        return intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, tbest);
+    } else if constexpr (Type == PrimitiveType::plane) {
+        const PlaneArrays& a = s.planes;
+        return intersect_plane(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
+    } else if constexpr (Type == PrimitiveType::disk) {
+        const DiskArrays& a = s.disks;
+        return intersect_disk(r, broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast3<T>(a.nx, a.ny, a.nz, k),
+                      broadcast<T>(a.radius2, k), hit, tbest);
+    } else if constexpr (Type == PrimitiveType::rectangle) {
+        const RectangleArrays& a = s.rectangles;
+        return intersect_rectangle(r, broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast3<T>(a.nx, a.ny, a.nz, k),
+                           broadcast3<T>(a.dual_ax, a.dual_ay, a.dual_az, k),
+                           broadcast3<T>(a.dual_bx, a.dual_by, a.dual_bz, k), hit, tbest);
+    } else if constexpr (Type == PrimitiveType::box) {
+        const BoxArrays& a = s.boxes;
+        return intersect_box(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit,
+                     tbest);
+    } else {
+        const TriangleArrays& a = s.triangles;
+        return intersect_triangle(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
+                          broadcast3<T>(a.x2, a.y2, a.z2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
+    }
+}
+
+template <class T, Precision P, unsigned F>
+inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
+    Closest<T> best{r.tmax, T(-1)};
+    LazyBeam<T, P> beam(r);
+    for_each_primitive_type<F>(s, [&](auto tag, int n) {
+        constexpr PrimitiveType type = decltype(tag)::value;
+        const int base = s.offset[int(type)];
+        for_each_candidate<type, F>(s, n, r, best.t, beam, [&](int k) OCTRAY_HOT_LAMBDA {
+            Mask<T> hit;
+            const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
+            best.take(hit, t, base + k);
+        });
+    });
+    return best;
+}
+
+// Unit geometric normal of a primitive of type `Type` at p, its data read
+// through `at` (the lanes' indices within the type). `d` (the ray direction)
+// breaks ties on box edges.
+template <PrimitiveType Type, class T>
+inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Vec3<T>& p, const Vec3<T>& d) {
+    if constexpr (Type == PrimitiveType::sphere) {
+        const SphereArrays& a = s.spheres;
+        return (p - at(a.cx, a.cy, a.cz)) * at(a.inv_radius);
+    } else if constexpr (Type == PrimitiveType::plane) {
+        return at(s.planes.nx, s.planes.ny, s.planes.nz);
+    } else if constexpr (Type == PrimitiveType::disk) {
+        return at(s.disks.nx, s.disks.ny, s.disks.nz);
+    } else if constexpr (Type == PrimitiveType::rectangle) {
+        return at(s.rectangles.nx, s.rectangles.ny, s.rectangles.nz);
+    } else if constexpr (Type == PrimitiveType::box) {
+        // The face is the axis where p sits farthest out relative to the
+        // half extent. On an edge or corner (a tie) it is the face the ray
+        // crosses most steeply (largest |d| component; then x, then y): a
+        // ray gliding along one face into an edge enters through the other,
+        // as the reference's deciding slab says.
+        const BoxArrays& a = s.boxes;
+        const Vec3<T> lo = at(a.minx, a.miny, a.minz), hi = at(a.maxx, a.maxy, a.maxz);
+        const Vec3<T> c = (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
+        const Vec3<T> q = p - c;
+        const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
+        const T dx = lane::abs(d.x), dy = lane::abs(d.y), dz = lane::abs(d.z);
+        const Mask<T> ax = (rx > ry || (rx == ry && dx >= dy)) && (rx > rz || (rx == rz && dx >= dz));
+        const Mask<T> ay = lane::not_(ax) && (ry > rz || (ry == rz && dy >= dz)), az = lane::not_(ax || ay);
+        return {lane::keep(ax, lane::copysign(T(1), q.x)), lane::keep(ay, lane::copysign(T(1), q.y)),
+                lane::keep(az, lane::copysign(T(1), q.z))};
+    } else {
+        return at(s.triangles.nx, s.triangles.ny, s.triangles.nz);
+    }
+}
+
+// Unit geometric normal at p for the lanes of `hit`, whose hits' compiled ids
+// `at` looks up (at.idx; the caller's id stores share the lookup); other
+// lanes get an unspecified normal (the caller drops them).
+// A coherent packet's hit lanes mostly share one primitive: then only that
+// type's normal is computed, from its broadcast data; else each type present
+// computes its lanes' normals from gathered data.
+template <class T, unsigned F>
+inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Vec3<T>& p, const Mask<T>& hit,
+                          const Vec3<T>& d) {
+    Vec3<T> n{T(0), T(0), T(1)};
+    if (!lane::any(hit)) return n;
+    if (at.uniform) {
+        const int shared = at.first;
+        for_each_primitive_type<F>(s, [&](auto tag, int count) {
+            constexpr PrimitiveType type = decltype(tag)::value;
+            const int base = s.offset[int(type)];
+            if (shared >= base && shared < base + count)
+                n = type_normal<type>(s, Lookup<T>::at_index(shared - base), p, d);
+        });
+        return n;
+    }
+    const T& cid = at.idx;
+    for_each_primitive_type<F>(s, [&](auto tag, int count) {
+        constexpr PrimitiveType type = decltype(tag)::value;
+        const int base = s.offset[int(type)];
+        const Mask<T> mine = hit && cid >= T(float(base)) && cid < T(float(base + count));
+        if (count == 0 || !lane::any(mine)) return;
+        const Vec3<T> m = type_normal<type>(s, Lookup<T>(lane::keep(mine, cid - T(float(base))), mine), p, d);
+        n = {lane::select(mine, m.x, n.x), lane::select(mine, m.y, n.y), lane::select(mine, m.z, n.z)};
+    });
+    return n;
+}
+
+template <class T, Precision P, unsigned F>
+inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8& hp, int lane) {
+    int masked = 0;
+    const Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
+    const Closest<T> best = closest_hit<T, P, F>(s, r);
+    const Mask<T> hit = r.valid && best.cid >= T(0);
+    const T cid = lane::keep(hit, best.cid);
+    const Vec3<T> p = r.o + r.d * best.t;
+    const Lookup<T> at(cid, hit);
+    Vec3<T> n = hit_normal<T, F>(s, at, p, hit, r.d);
+    // Face-forward (two-sided shading): the normal opposes the ray.
+    const Mask<T> away = fdot(n, r.d) > T(0);
+    n = {lane::select(away, T(0) - n.x, n.x), lane::select(away, T(0) - n.y, n.y), lane::select(away, T(0) - n.z, n.z)};
+    store(hp.t, lane, lane::select(hit, best.t, inf<T>()));
+    store_index(hp.primitive, lane, lane::select(hit, at(s.object_of), T(-1)));
+    store_index(hp.material, lane, lane::select(hit, at(s.material_of), T(-1)));
+    store(hp.nx, lane, lane::keep(hit, n.x));
+    store(hp.ny, lane, lane::keep(hit, n.y));
+    store(hp.nz, lane, lane::keep(hit, n.z));
+    store_mask<T>(hp.hit, lane, hit);
+    store_mask<T>(hp.invalid, lane, r.invalid);
+    return masked;
+}
+
+template <class T, Precision P, unsigned F>
+int intersect_packet(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
+    const SceneData& s = scene.data();
+    int masked = 0;
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) masked += intersect_lanes<T, P, F>(s, rp, hp, lane);
+    return masked;
+}
+
+// ---- any hit (shadow rays) -------------------------------------------------
+// The valid lanes of `live` blocked in (tmin, tmax). live.valid narrows as
+// lanes are blocked (the walk culls what none of the others can reach and
+// stops when none is left); the ray is the caller's, not copied: a copy of
+// the whole Ray costs more than a shadow ray's culling.
+template <class T, Precision P, unsigned F>
+inline Mask<T> any_hit(const SceneData& s, Ray<T, P>& live) {
+    const Mask<T> valid = live.valid;
+    LazyBeam<T, P> beam(live);
+    for_each_primitive_type<F>(s, [&](auto tag, int n) {
+        constexpr PrimitiveType type = decltype(tag)::value;
+        if (!lane::any(live.valid)) return;
+        for_each_candidate<type, F>(s, n, live, live.tmax, beam, [&](int k) OCTRAY_HOT_LAMBDA {
+            Mask<T> hit;
+            test_primitive<type, T, P>(s, k, live, hit, live.tmax);
+            live.valid = live.valid && lane::not_(hit);
+        });
+    });
+    return valid && lane::not_(live.valid);
+}
+
+template <class T, Precision P, unsigned F>
+void occluded_packet(const PacketScene& scene, const RayPacket8& rp, std::int32_t* occluded) noexcept {
+    const SceneData& s = scene.data();
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) {
+        int masked = 0;
+        Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
+        store_mask<T>(occluded, lane, any_hit<T, P, F & kAllPrimitives>(s, r));
+    }
+}
+
+}  // namespace octray::kernels::OCTRAY_ISA

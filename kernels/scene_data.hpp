@@ -1,0 +1,80 @@
+// kernels/scene_data.hpp — what compile() makes and the kernels read: the
+// scene as structure of arrays, in float.
+//
+// One set of arrays per primitive type and per light type, each padded to a
+// multiple of the packet width and 64-byte aligned. Only the types a scene
+// has are filled. Primitives are renumbered type by type ("compiled id" =
+// offset[type] + index within type), and within a type along a Morton curve
+// of their bounding spheres (planes: scene order), so clusters are compact;
+// `object_of` maps a compiled id back to its Scene::objects index. Two
+// primitives hit at exactly the same t (coincident faces, a ray through a
+// shared mesh edge) resolve to the one earlier in compiled order, which need
+// not be the lower object index the reference keeps.
+#pragma once
+
+#include "aligned.hpp"
+#include "cluster_tree.hpp"
+
+#include <octray/packet_scene.hpp>
+
+#include <array>
+
+namespace octray {
+
+// radius: as authored, rounded once (1e6 stays exact; its square would not).
+struct SphereArrays { Floats cx, cy, cz, inv_radius, radius; };
+struct PlaneArrays { Floats px, py, pz, nx, ny, nz; };
+struct DiskArrays { Floats cx, cy, cz, nx, ny, nz, radius2; };
+// p = corner + s a + t b; s = (p - corner).dual_a, t = (p - corner).dual_b.
+struct RectangleArrays { Floats cx, cy, cz, nx, ny, nz, dual_ax, dual_ay, dual_az, dual_bx, dual_by, dual_bz; };
+struct BoxArrays { Floats minx, miny, minz, maxx, maxy, maxz; };
+// Vertices kept as given: the watertight test works in ray-relative space.
+struct TriangleArrays { Floats x0, y0, z0, x1, y1, z1, x2, y2, z2, nx, ny, nz; };
+
+// ls * color premultiplied per light; shadows as 0/1 floats.
+struct DirectionalArrays { Floats lx, ly, lz, r, g, b, shadows; };
+struct PointArrays { Floats px, py, pz, r, g, b, shadows; };
+
+struct PacketCamera {
+    bool orthographic = false;
+    float eye[3]{}, u[3]{}, v[3]{}, w[3]{};
+    float scale_x = 1, scale_y = 1;  // tan(fov/2)*aspect, tan(fov/2)  (or height_world/2 * ...)
+    int width = 0, height = 0;
+};
+
+struct SceneData {
+    Features features;
+    std::array<int, kPrimitiveTypeCount> count{};   // primitives per type
+    std::array<int, kPrimitiveTypeCount> offset{};  // first compiled id per type
+    // Per type, the bounding-sphere tree over its clusters; planes have none.
+    std::array<ClusterTree, kPrimitiveTypeCount> clusters;
+    SphereArrays spheres;
+    PlaneArrays planes;
+    DiskArrays disks;
+    RectangleArrays rectangles;
+    BoxArrays boxes;
+    TriangleArrays triangles;
+    Floats object_of;    // compiled id -> Scene::objects index (exact in float below 2^24)
+    Floats material_of;  // compiled id -> Scene::materials index
+
+    int directional_count = 0, point_count = 0, point_attenuated_count = 0;
+    DirectionalArrays directional;
+    PointArrays point;             // attenuation none
+    PointArrays point_attenuated;  // attenuation inverse_square
+
+    // Per material, premultiplied: ka*cd ⋆ ls*cl (seed eq. 7) and kd*cd/pi (eq. 8).
+    Floats ambient_r, ambient_g, ambient_b, diffuse_r, diffuse_g, diffuse_b;
+
+    float background[3]{};
+    PacketCamera camera;
+    ToneMap tonemap = ToneMap::max_to_one;
+    float clamp_color[3]{1, 0, 0};
+    float inv_gamma = 1;
+};
+
+// Test and benchmark hook: a compiled scene's data, writable (e.g. to
+// disable_culling() on its trees); `scene` gets its own copy first, so the
+// copies it was made from or shared with keep theirs.
+SceneData& mutable_data(PacketScene& scene);
+
+}  // namespace octray

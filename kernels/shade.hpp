@@ -1,0 +1,141 @@
+// kernels/shade.hpp — Lambertian shading (the seed's eq. 7-8: ambient plus
+// the sum of each light's kd cd / pi * ls cl * max(0, n.l), point lights with
+// eq. 6's 1/r^2 where attenuated), with shadow rays where a light casts them.
+#pragma once
+
+#include "intersect.hpp"
+
+namespace octray::kernels::OCTRAY_ISA {
+
+// ---- shading (seed eq. 7-8) ------------------------------------------------
+// Fills r with the shadow ray from p toward a light at distance `dist` along
+// unit `l`. The origin moves off the surface along the facing normal so the
+// surface does not shadow itself: by 1e-4 |p|, or by more than the hit point's error where the
+// precision mode's error over the camera ray's length `reach` (|p - o|, max
+// norm) is larger (precision.hpp, shadow_offset).
+template <class T, Precision P>
+inline void shadow_ray(Ray<T, P>& r, const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist,
+                       const Mask<T>& valid, const T& reach) {
+    const T scale = lane::max(lane::max(lane::abs(p.x), lane::abs(p.y)), lane::max(lane::abs(p.z), T(1)));
+    const T eps = lane::max(scale * T(1e-4f), (scale + reach) * T(float(shadow_offset(P))));
+    r.o = p + n * eps;
+    r.d = l;
+    r.tmin = T(0);
+    r.tmax = dist;
+    r.valid = valid;
+    r.invalid = Mask<T>(false);
+    finish_ray(r, fdot(l, l));
+}
+
+// The lanes of `lit` whose shadow ray (shadow_ray's arguments) something
+// blocks; the ray is built in place for any_hit, which narrows it.
+template <class T, Precision P>
+inline Mask<T> shadowed(const SceneData& s, const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist,
+                        const Mask<T>& lit, const T& reach) {
+    Ray<T, P> shadow;
+    shadow_ray(shadow, p, n, l, dist, lit, reach);
+    return any_hit<T, P, kAllPrimitives>(s, shadow);
+}
+
+// Adds one light's ls*cl * max(0, n.l) [* 1/r^2] to E where `lit`.
+// Summation: plain recursive, one FMA per term. Every term is >= 0, so the
+// relative error of the sum is <= (n-1) u for n lights whatever their dynamic
+// range (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed.,
+// sec. 4.2): a term below u of the total is rounded away, which is its correct
+// rounding. Compensated summation would only remove that (n-1) u, which the
+// per-term errors (n.l, 1/r^2, a few u each) match anyway; `octray stability`
+// measures it (case lights_64_over_12_decades). Overflow: a term whose weight
+// or ls*cl is +inf gives +inf, never NaN: 0 * inf (an unlit lane's zero weight
+// times an infinite ls*cl, or a zero colour channel times an infinite weight)
+// is NaN, and max(x, e) keeps e there (lane::max returns its second operand on
+// NaN); elsewhere x = e + radiance * w >= e, so the max changes nothing.
+template <class T>
+inline void accumulate(Vec3<T>& e, const Mask<T>& lit, const T& weight, const Vec3<T>& radiance) {
+    const T w = lane::keep(lit, weight);
+    e = {lane::max(lane::fma(radiance.x, w, e.x), e.x), lane::max(lane::fma(radiance.y, w, e.y), e.y),
+         lane::max(lane::fma(radiance.z, w, e.z), e.z)};
+}
+
+template <class T, Precision P, unsigned F>
+inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out, int lane) {
+    const Mask<T> hit = load_mask<T>(hp.hit, lane) && load_mask<T>(rp.active, lane);
+    const Vec3<T> o{load<T>(rp.ox, lane), load<T>(rp.oy, lane), load<T>(rp.oz, lane)};
+    const Vec3<T> d{load<T>(rp.dx, lane), load<T>(rp.dy, lane), load<T>(rp.dz, lane)};
+    const T t = lane::keep(hit, load<T>(hp.t, lane));
+    const Vec3<T> p{lane::keep(hit, lane::fma(d.x, t, o.x)), lane::keep(hit, lane::fma(d.y, t, o.y)),
+                    lane::keep(hit, lane::fma(d.z, t, o.z))};
+    const Vec3<T> n{load<T>(hp.nx, lane), load<T>(hp.ny, lane), load<T>(hp.nz, lane)};
+    const T m = lane::keep(hit, load_index<T>(hp.material, lane));
+    [[maybe_unused]] const T reach = t * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
+
+    Vec3<T> e{T(0), T(0), T(0)};  // sum over lights of ls*cl * n.l [/ r^2]
+    if constexpr ((F & kDirectional) != 0) {
+        const DirectionalArrays& a = s.directional;
+        for (int k = 0; k < s.directional_count; ++k) {
+            const Vec3<T> l = broadcast3<T>(a.lx, a.ly, a.lz, k);
+            const T ndl = fdot(n, l);
+            Mask<T> lit = hit && ndl > T(0);
+            if constexpr ((F & kShadows) != 0) {
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
+                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, l, inf<T>(), lit, reach));
+            }
+            accumulate(e, lit, ndl, broadcast3<T>(a.r, a.g, a.b, k));
+        }
+    }
+    auto point_lights = [&](const PointArrays& a, int count, auto attenuated) {
+        for (int k = 0; k < count; ++k) {
+            const Vec3<T> pos = broadcast3<T>(a.px, a.py, a.pz, k);
+            Vec3<T> v = pos - p;
+            T r2 = fdot(v, v), scale = T(1), unscale = T(1);
+            // r^2 outside [2^-100, 2^100] (a light nearer than ~1e-15 or farther
+            // than ~1e15: r^2 subnormal, zero or overflowing, where rsqrt loses
+            // bits or the estimate modes read 0): measure v in units of 2^-80
+            // or 2^80 instead. Powers of two, so exact; a rare branch.
+            const Mask<T> odd = hit && lane::not_(r2 >= T(0x1p-100f) && r2 <= T(0x1p100f));
+            if (lane::any(odd)) {
+                const Mask<T> far = r2 > T(1);
+                scale = lane::select(odd, lane::select(far, T(0x1p-80f), T(0x1p80f)), T(1));
+                unscale = lane::select(odd, lane::select(far, T(0x1p80f), T(0x1p-80f)), T(1));
+                v = pos * scale - p * scale;
+                r2 = fdot(v, v);
+            }
+            const Mask<T> apart = r2 > T(0);  // a light exactly on the surface point lights nothing
+            const T inv_r = lane::rsqrt<P>(lane::select(apart, r2, T(1)));  // 1/|v|, v in its units
+            const T ndl = fdot(n, v) * inv_r;
+            Mask<T> lit = hit && apart && ndl > T(0);
+            if constexpr ((F & kShadows) != 0) {
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
+                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach));
+            }
+            T weight = ndl;
+            if constexpr (decltype(attenuated)::value) {
+                // eq. 6: 1/r^2. Below r ~ 1e-19 it overflows to +inf: the lit
+                // channels become +inf, never NaN (see accumulate).
+                const T inv_dist = inv_r * scale;
+                weight = weight * (inv_dist * inv_dist);
+            }
+            accumulate(e, lit, weight, broadcast3<T>(a.r, a.g, a.b, k));
+        }
+    };
+    if constexpr ((F & kPoint) != 0) point_lights(s.point, s.point_count, std::false_type{});
+    if constexpr ((F & kPointAttenuated) != 0) point_lights(s.point_attenuated, s.point_attenuated_count, std::true_type{});
+
+    // L = ka cd * ls cl  +  kd cd / pi * E   (eq. 8, the diffuse factor taken out of the sum)
+    const Lookup<T> material(m, hit);
+    Vec3<T> c = hadamard(material(s.diffuse_r, s.diffuse_g, s.diffuse_b), e);
+    // kd cd = 0 times an overflowed E = +inf is NaN; the radiance is 0 there
+    // (max(x, 0) flushes NaN to 0; every other x is >= 0 and passes).
+    c = {lane::max(c.x, T(0)), lane::max(c.y, T(0)), lane::max(c.z, T(0))};
+    if constexpr ((F & kAmbient) != 0) c += material(s.ambient_r, s.ambient_g, s.ambient_b);
+    store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));
+    store(out.g, lane, lane::select(hit, c.y, T(s.background[1])));
+    store(out.b, lane, lane::select(hit, c.z, T(s.background[2])));
+}
+
+template <class T, Precision P, unsigned F>
+void shade_packet(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
+    const SceneData& s = scene.data();
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) shade_lanes<T, P, F>(s, rp, hp, out, lane);
+}
+
+}  // namespace octray::kernels::OCTRAY_ISA

@@ -1,0 +1,204 @@
+// intersect_packet against the reference lane by lane: every primitive type on
+// random rays, partial packets, and the lanes masked off for bad input.
+#include <doctest/doctest.h>
+
+#include "support.hpp"
+
+#include "scene_loader.hpp"
+#include "verify.hpp"
+
+#include <octray/kernels.hpp>
+#include <octray/reference.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+using namespace octray;
+using namespace octray::test;
+
+TEST_CASE("randomized packets agree with the reference lane by lane, for every primitive type") {
+    constexpr int kRaysPerType = 100'000;
+    for (int type_index = 0; type_index < kPrimitiveTypeCount; ++type_index) {
+        const PrimitiveType type = PrimitiveType(type_index);
+        const std::string type_name = primitive_type_name(type);
+        CAPTURE(type_name);
+        RandomRays rnd(1234u + unsigned(type_index));
+        int hits = 0, boundary = 0, rays = 0;
+        double max_t_err = 0, max_n_err = 0;
+        for (Path path : {Path::scalar, Path::simd}) {
+            RandomRays r(1234u + unsigned(type_index));
+            for (int batch = 0; rays < kRaysPerType * (int(path) + 1); ++batch) {
+                // A new primitive every 8 packets: many shapes, many rays each.
+                const Scene scene = one_object_scene(random_shape(type, r));
+                const PacketScene ps = compile(scene);
+                const Kernel k = select_kernel(ps, path);
+                for (int p = 0; p < 8; ++p, rays += 8) {
+                    RayPacket8 rp;
+                    reference::Ray refs[8];
+                    for (int i = 0; i < 8; ++i) {
+                        // Half the origins near the primitive (often inside), half far out.
+                        // Half the directions random, half aimed at the primitive's neighbourhood.
+                        const Vec3d o = fl(i % 2 == 0 ? r.in_cube(1.5) : r.in_cube(8));
+                        Vec3d d = r.direction();
+                        if (i % 4 >= 2) {
+                            const Vec3d aim = r.in_cube(1.5) - o;
+                            if (dot(aim, aim) > 1e-6) d = fl(aim * (1 / std::sqrt(dot(aim, aim))));
+                        }
+                        refs[i] = {o, d};
+                        rp.ox[i] = f(o.x), rp.oy[i] = f(o.y), rp.oz[i] = f(o.z);
+                        rp.dx[i] = f(d.x), rp.dy[i] = f(d.y), rp.dz[i] = f(d.z);
+                        rp.tmin[i] = 0, rp.tmax[i] = INFINITY, rp.active[i] = -1;
+                    }
+                    HitPacket8 hp;
+                    REQUIRE(k.intersect(ps, rp, hp) == 0);
+                    for (int i = 0; i < 8; ++i) {
+                        const Shape& shape = scene.objects[0].shape;
+                        const auto t = reference::intersect(shape, refs[i], 0, 1e300);
+                        if (t.has_value() != (hp.hit[i] != 0)) {
+                            // Only legal within float rounding of the boundary.
+                            const bool legal = near_boundary(shape, refs[i], 1e-5);
+                            CHECK_MESSAGE(legal, "lane " << i << " ref t=" << (t ? *t : -1.0) << " kernel hit=" << hp.hit[i]);
+                            ++boundary;
+                            continue;
+                        }
+                        if (!t) {
+                            CHECK(hp.primitive[i] == -1);
+                            continue;
+                        }
+                        ++hits;
+                        CHECK(hp.primitive[i] == 0);
+                        CHECK(hp.material[i] == 0);
+                        // t: float rounding moves the hit point by a few ulps of the
+                        // ray's length scale along the normal; along the ray that is
+                        // that distance over |cos(incidence)|, so |dt| |cos| / scale is
+                        // the well-conditioned error measure.
+                        const double scale = 1 + std::sqrt(dot(refs[i].origin, refs[i].origin)) + *t;
+                        Vec3d nr = reference::geometric_normal(shape, refs[i].origin + refs[i].direction * *t);
+                        const double cosine = std::fabs(dot(nr, refs[i].direction));
+                        const double t_err = std::fabs(double(hp.t[i]) - *t) * cosine / scale;
+                        max_t_err = std::max(max_t_err, t_err);
+                        // Normal: unit, facing the ray, and the reference's face-forward normal.
+                        const Vec3d n{hp.nx[i], hp.ny[i], hp.nz[i]};
+                        if (dot(nr, refs[i].direction) > 0) nr = -nr;
+                        CHECK(dot(n, refs[i].direction) <= 0);
+                        if (type != PrimitiveType::box)  // box edges: either face is right
+                            max_n_err = std::max(max_n_err, std::sqrt(length_squared(n - nr)));
+                    }
+                }
+            }
+        }
+        MESSAGE(type_name << ": " << rays << " rays, " << hits << " hits, " << boundary
+                                          << " boundary mismatches, max t err " << max_t_err << ", max normal err "
+                                          << max_n_err);
+        CHECK(hits > rays / 20);  // the test exercises hits, not only misses
+        CHECK(double(boundary) <= 1e-3 * rays);
+        CHECK(max_t_err <= 1e-5);
+        CHECK(max_n_err <= 1e-3);
+    }
+}
+
+TEST_CASE("partial packets and inactive lanes leave the other lanes untouched") {
+    const Scene scene = load_repo_scene("default");
+    const PacketScene ps = compile(scene);
+    for (Path path : {Path::scalar, Path::simd}) {
+        CAPTURE(path_name(path));
+        const Kernel k = select_kernel(ps, path);
+        std::mt19937 rng(99);
+        for (int y = 0; y < scene.camera.height; y += 7) {
+            for (int x0 = 0; x0 < scene.camera.width; x0 += 8) {
+                RayPacket8 full;
+                k.camera(ps, x0, y, full);
+                HitPacket8 h_full, h_part;
+                ColorPacket8 c_full, c_part;
+                k.intersect(ps, full, h_full);
+                k.shade(ps, full, h_full, c_full);
+                RayPacket8 part = full;
+                const unsigned mask = rng() & 0xffu;
+                for (int i = 0; i < 8; ++i) {
+                    if ((mask >> i) & 1u) continue;
+                    part.active[i] = 0;
+                    part.ox[i] = NAN, part.dx[i] = NAN;  // inactive lanes are never read
+                }
+                CHECK(k.intersect(ps, part, h_part) == 0);
+                k.shade(ps, part, h_part, c_part);
+                for (int i = 0; i < 8; ++i) {
+                    const bool active = (mask >> i) & 1u && full.active[i];
+                    if (active) {
+                        CHECK(h_part.t[i] == h_full.t[i]);
+                        CHECK(h_part.primitive[i] == h_full.primitive[i]);
+                        CHECK(c_part.r[i] == c_full.r[i]);
+                        CHECK(c_part.g[i] == c_full.g[i]);
+                        CHECK(c_part.b[i] == c_full.b[i]);
+                    } else {
+                        CHECK(h_part.hit[i] == 0);
+                        CHECK(h_part.primitive[i] == -1);
+                        CHECK(c_part.r[i] == float(scene.background.x));
+                        CHECK(c_part.g[i] == float(scene.background.y));
+                        CHECK(c_part.b[i] == float(scene.background.z));
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST_CASE("lanes with NaN, Inf, zero directions or empty intervals are masked, counted and shaded as background") {
+    const Scene scene = load_repo_scene("default");
+    const PacketScene ps = compile(scene);
+    for (Path path : {Path::scalar, Path::simd})
+        for (Precision prec : {Precision::exact, Precision::fast, Precision::approx}) {
+            CAPTURE(path_name(path));
+            CAPTURE(precision_name(prec));
+            const Kernel k = select_kernel(ps, path, prec);
+            RayPacket8 rp;
+            k.camera(ps, 152, 120, rp);  // the centre of the image: every lane hits something
+            rp.ox[0] = NAN;
+            rp.dy[1] = INFINITY;
+            rp.dx[2] = rp.dy[2] = rp.dz[2] = 0;
+            rp.tmin[3] = 5, rp.tmax[3] = 5;
+            rp.tmax[4] = NAN;
+            rp.oz[5] = -INFINITY;
+            rp.dx[6] = 1e-30f, rp.dy[6] = 0, rp.dz[6] = 0;  // |d|^2 underflows
+            HitPacket8 hp;
+            CHECK(k.intersect(ps, rp, hp) == 7);
+            ColorPacket8 c, shown;
+            k.shade(ps, rp, hp, c);
+            k.tonemap(ps, c, shown);
+            for (int i = 0; i < 7; ++i) {
+                CHECK(hp.hit[i] == 0);
+                CHECK(c.r[i] == float(scene.background.x));
+            }
+            CHECK(hp.hit[7] != 0);
+            for (int i = 0; i < 8; ++i) {
+                CHECK(std::isfinite(c.r[i]));
+                CHECK(std::isfinite(c.g[i]));
+                CHECK(std::isfinite(c.b[i]));
+                CHECK(std::isfinite(shown.r[i]));
+                CHECK(std::isfinite(hp.nx[i]));
+            }
+        }
+}
+
+TEST_CASE("HitPacket::invalid flags exactly the lanes that were masked off") {
+    const PacketScene ps = compile(one_object_scene(Sphere{{0, 0, 0}, 1}));
+    for (Path path : {Path::scalar, Path::simd}) {
+        const Kernel k = select_kernel(ps, path);
+        RayPacket8 rp;
+        for (int i = 0; i < 8; ++i) {
+            rp.ox[i] = 0, rp.oy[i] = 0, rp.oz[i] = 5, rp.dx[i] = 0, rp.dy[i] = 0, rp.dz[i] = -1;
+            rp.tmin[i] = 0, rp.tmax[i] = INFINITY, rp.active[i] = -1;
+        }
+        rp.dz[2] = 0;          // zero direction: invalid
+        rp.active[3] = 0;      // inactive: not invalid, just not traced
+        rp.oy[5] = NAN;        // invalid
+        HitPacket8 hp;
+        CHECK(k.intersect(ps, rp, hp) == 2);
+        for (int i = 0; i < 8; ++i) {
+            CAPTURE(i);
+            CHECK((hp.invalid[i] != 0) == (i == 2 || i == 5));
+            CHECK((hp.hit[i] != 0) == (i != 2 && i != 3 && i != 5));
+            if (hp.hit[i]) CHECK(hp.t[i] == doctest::Approx(4.0).epsilon(1e-6));
+        }
+    }
+}
