@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""CTest tools.plot and cli.errtime_plot: the plots tools/plot.py draws with matplotlib.
+"""CTest tools.plot, tools.bench_report_plot and cli.errtime_plot: the plots tools/plot.py draws.
 
     test_plot.py script PLOT_PY         plot.py on hand-made errtime CSV and bench JSON, good and bad
+    test_plot.py bench-report TOOL      `bench-report --plot-only` on hand-made benchmark JSON
     test_plot.py cli OCTRAY SCENE       `octray errtime SCENE --csv X --plot Y.svg` and its failures
 
 Run by a python3 with matplotlib (the build's OCTRAY_PLOT_PYTHON), which
@@ -9,6 +10,7 @@ also runs plot.py here.
 """
 
 import html
+import json
 import os
 import re
 import struct
@@ -146,6 +148,44 @@ def test_script(plot_py):
     print("plot.py: errtime and bench plots as SVG and PNG; bad input and no matplotlib refused in one line")
 
 
+def benchmark_json(rates):
+    """Google Benchmark JSON with one median aggregate of items_per_second per run name, in the given order."""
+    return json.dumps({"context": {"host_name": "test"}, "benchmarks": [
+        {"name": f"{name}_median", "run_name": name, "run_type": "aggregate", "aggregate_name": "median",
+         "items_per_second": rate} for name, rate in rates]})
+
+
+def test_bench_report(tool):
+    with tempfile.TemporaryDirectory() as tmp:
+        os.makedirs(os.path.join(tmp, "raw"))
+        write(os.path.join(tmp, "raw", "stages.json"), benchmark_json([
+            ("e2e/default/render_rows/simd", 2.7e7), ("e2e/default/render_rows/scalar", 4.4e6),
+            ("shade/default/scalar", 2.3e7)]))
+        # Scenes in a random (interleaved) order, as a run writes them.
+        write(os.path.join(tmp, "raw", "embree.json"), benchmark_json([
+            ("peer/spheres:16/octray_simd", 6.2e7), ("peer/spheres+plane:1/octray_simd", 1.2e8),
+            ("peer/spheres:4/embree8_user", 6.6e7), ("peer/spheres:4/embree8_native_isa_avx2", 3.0e7),
+            ("peer/spheres:4/octray_simd", 1.1e8), ("peer/spheres:4/embree1_native", 2.1e7)]))
+        env = dict(os.environ, OCTRAY_PYTHON=sys.executable, OCTRAY_BUILD_DIR=os.path.join(tmp, "no-build"))
+        p = run([sys.executable, tool, "--out", tmp, "--plot-only"], env=env)
+        assert p.returncode == 0, p.stderr
+        with open(os.path.join(tmp, "bench_plot.json")) as f:
+            data = json.load(f)
+        got = [(g["label"], g["values"], g["notes"]) for g in data["groups"]]
+        assert got == [
+            ("e2e/default/render_rows", [4.4e6, 2.7e7, None, None], ["", "", "", ""]),
+            ("shade/default", [2.3e7, None, None, None], ["", "", "", ""]),
+            ("peer/spheres:4", [None, 1.1e8, 6.6e7, 2.1e7], ["", "", "user", "native"]),
+            ("peer/spheres:16", [None, 6.2e7, None, None], ["", "", "", ""]),
+            ("peer/spheres+plane:1", [None, 1.2e8, None, None], ["", "", "", ""]),
+        ], got
+        check_plot(os.path.join(tmp, "bench.svg"), ["rays per second", "peer/spheres+plane:1", "66M (user)"],
+                   width=1050)
+        # --plot-only leaves the report alone.
+        assert not os.path.exists(os.path.join(tmp, "bench.md")) and not os.path.exists(os.path.join(tmp, "summary.json"))
+    print("bench-report --plot-only: the chart's data from raw/*.json in a fixed order, drawn by plot.py")
+
+
 def test_cli(octray, scene):
     with tempfile.TemporaryDirectory() as tmp:
         # The contract: --csv and --plot both written, the plot drawn from that CSV.
@@ -191,6 +231,8 @@ def test_cli(octray, scene):
 if __name__ == "__main__":
     if len(sys.argv) == 3 and sys.argv[1] == "script":
         test_script(sys.argv[2])
+    elif len(sys.argv) == 3 and sys.argv[1] == "bench-report":
+        test_bench_report(sys.argv[2])
     elif len(sys.argv) == 4 and sys.argv[1] == "cli":
         test_cli(sys.argv[2], sys.argv[3])
     else:
