@@ -389,7 +389,7 @@ TEST_CASE("the Pareto front keeps exactly the points no other point beats in bot
     }
 }
 
-TEST_CASE("errtime measures every path x mode and writes the table, CSV and SVG") {
+TEST_CASE("errtime measures every path x mode and writes the table and CSV") {
     Scene scene = load_scene(std::string(OCTRAY_SOURCE_DIR) + "/scenes/default.json");
     scene.camera.width = 40, scene.camera.height = 30;  // small: this is about the report, not the numbers
     ErrtimeOptions options;
@@ -418,13 +418,6 @@ TEST_CASE("errtime measures every path x mode and writes the table, CSV and SVG"
     const std::string csv = errtime_csv(r);
     CHECK(std::count(csv.begin(), csv.end(), '\n') == std::ptrdiff_t(r.points.size() + 1));
     CHECK(csv.rfind("path,isa,mode,", 0) == 0);
-    const std::string svg = errtime_svg(r, "test <plot>");
-    CHECK(svg.rfind("<svg", 0) == 0);
-    CHECK(svg.find("</svg>") != std::string::npos);
-    CHECK(svg.find("test &lt;plot&gt;") != std::string::npos);
-    std::size_t circles = 0;
-    for (std::size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1)) ++circles;
-    CHECK(circles >= r.points.size());
     std::FILE* devnull = std::fopen("/dev/null", "w");
     REQUIRE(devnull != nullptr);
     print_errtime_table(devnull, r);

@@ -1,13 +1,21 @@
 // tools/cmd_errtime.cpp — `octray errtime SCENE [--csv F] [--plot F.svg]`:
 // error against run time for every path x precision mode this CPU runs.
+// The plot is tools/plot.py's (matplotlib), drawn from the CSV.
 #include "commands.hpp"
 #include "errtime.hpp"
+#include "plot_script.hpp"
 #include "scene_loader.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <string>
+
+#include <unistd.h>
 
 namespace octray::cli {
 namespace {
@@ -17,6 +25,25 @@ void write_text(const std::string& path, const std::string& text) {
     if (!f || !(f << text) || !(f.flush()))
         throw std::runtime_error(path + ": cannot write");
 }
+
+// The CSV the plot is drawn from when --csv names none: removed when done.
+class TempCsv {
+public:
+    TempCsv() {
+        const char* dir = std::getenv("TMPDIR");
+        path_ = std::string(dir && *dir ? dir : "/tmp") + "/octray-errtime-XXXXXX.csv";
+        const int fd = mkstemps(path_.data(), 4);
+        if (fd < 0) throw std::runtime_error(path_ + ": cannot create a temporary file: " + std::strerror(errno));
+        close(fd);
+    }
+    ~TempCsv() { std::remove(path_.c_str()); }
+    TempCsv(const TempCsv&) = delete;
+    TempCsv& operator=(const TempCsv&) = delete;
+    const std::string& path() const { return path_; }
+
+private:
+    std::string path_;
+};
 
 }  // namespace
 
@@ -30,13 +57,16 @@ int run_errtime(const ErrtimeArgs& args) {
     std::fflush(stdout);
     const ErrtimeReport report = measure_errtime(scene, options, stderr);
     print_errtime_table(stdout, report);
+    const std::string csv = errtime_csv(report);
     if (!args.csv.empty()) {
-        write_text(args.csv, errtime_csv(report));
+        write_text(args.csv, csv);
         std::printf("wrote %s\n", args.csv.c_str());
     }
     if (!args.plot.empty()) {
-        write_text(args.plot, errtime_svg(report, "octray errtime: " + args.scene));
-        std::printf("wrote %s\n", args.plot.c_str());
+        std::optional<TempCsv> temp;
+        if (args.csv.empty()) write_text(temp.emplace().path(), csv);
+        run_plot_script({"errtime", temp ? temp->path() : args.csv, args.plot, "--title", "octray errtime: " + args.scene},
+                        "--plot " + args.plot);
     }
     return kExitOk;
 }

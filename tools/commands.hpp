@@ -30,7 +30,7 @@ int run_verify(const VerifyArgs& args);
 struct ErrtimeArgs {
     std::string scene;
     std::string csv;   // empty: no CSV
-    std::string plot;  // empty: no SVG
+    std::string plot;  // empty: no plot (else F.svg and F.png, by tools/plot.py)
     int threads = 1;   // render threads while timing
 };
 int run_errtime(const ErrtimeArgs& args);

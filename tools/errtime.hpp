@@ -1,5 +1,6 @@
 // tools/errtime.hpp — error against run time, per path and precision mode
-// (`octray errtime`): measurement, Pareto front, table, CSV and SVG plot.
+// (`octray errtime`): measurement, Pareto front, table and CSV (tools/plot.py
+// draws the plot from the CSV).
 #pragma once
 
 #include "verify.hpp"
@@ -56,7 +57,5 @@ void mark_pareto(std::vector<ErrtimePoint>& points);
 
 void print_errtime_table(std::FILE* out, const ErrtimeReport& report);
 std::string errtime_csv(const ErrtimeReport& report);
-// Log error (max and p99 relative) against ns/ray, the Pareto front highlighted.
-std::string errtime_svg(const ErrtimeReport& report, const std::string& title);
 
 }  // namespace octray

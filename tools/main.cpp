@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
     auto* errtime_cmd = app.add_subcommand("errtime", "error against run time, per precision mode");
     errtime_cmd->add_option("scene", errtime.scene, "scene JSON file")->required();
     errtime_cmd->add_option("--csv", errtime.csv, "write the table as CSV");
-    errtime_cmd->add_option("--plot", errtime.plot, "write the plot as SVG");
+    errtime_cmd->add_option("--plot", errtime.plot,
+                            "draw the plot (python3 with matplotlib): F.svg and F.png beside it");
     errtime_cmd->add_option("--threads", errtime.threads, "render threads while timing")
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();
