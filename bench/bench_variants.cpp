@@ -137,8 +137,8 @@ int intersect_triangles(const PacketScene& scene, const RayPacket8& rp, HitPacke
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<PrimitiveType::triangle>(s, s.count[5], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = intersect_triangle(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
-                               broadcast3<T>(a.x2, a.y2, a.z2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
+        const T t = intersect_triangle(r, triangle_vertex<T>(a, a.i0, k), triangle_vertex<T>(a, a.i1, k),
+                                       triangle_vertex<T>(a, a.i2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
         best.take(hit, t, k);
     });
     const Lookup<T> at = hit_lookup(best);

@@ -41,6 +41,12 @@ inline void for_each_primitive_type(const SceneData& s, Body&& body) {
     if constexpr ((F & kTriangle) != 0) body(TypeTag<PrimitiveType::triangle>{}, s.count[5]);
 }
 
+// One corner of triangle k (`corner` is a.i0, a.i1 or a.i2), broadcast.
+template <class T>
+OCTRAY_HOT Vec3<T> triangle_vertex(const TriangleArrays& a, const std::vector<std::int32_t>& corner, int k) {
+    return broadcast3<T>(a.vx, a.vy, a.vz, corner[std::size_t(k)]);
+}
+
 // Tests primitive k of type `Type` (parameters broadcast from the scene arrays).
 template <PrimitiveType Type, class T, Precision P>
 OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
@@ -65,8 +71,8 @@ OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Ray<T, P>& r, Mask<
                      tbest);
     } else {
         const TriangleArrays& a = s.triangles;
-        return intersect_triangle(r, broadcast3<T>(a.x0, a.y0, a.z0, k), broadcast3<T>(a.x1, a.y1, a.z1, k),
-                          broadcast3<T>(a.x2, a.y2, a.z2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
+        return intersect_triangle(r, triangle_vertex<T>(a, a.i0, k), triangle_vertex<T>(a, a.i1, k),
+                                  triangle_vertex<T>(a, a.i2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
     }
 }
 

@@ -174,9 +174,11 @@ PacketScene compile(const Scene& scene) {
                     push3(a.maxx, a.maxy, a.maxz, p.max);
                 } else {
                     auto& a = s.triangles;
-                    push3(a.x0, a.y0, a.z0, p.v0);
-                    push3(a.x1, a.y1, a.z1, p.v1);
-                    push3(a.x2, a.y2, a.z2, p.v2);
+                    const auto first = std::int32_t(a.vx.size());
+                    push3(a.vx, a.vy, a.vz, p.v0);
+                    push3(a.vx, a.vy, a.vz, p.v1);
+                    push3(a.vx, a.vy, a.vz, p.v2);
+                    a.i0.push_back(first), a.i1.push_back(first + 1), a.i2.push_back(first + 2);
                     push3(a.nx, a.ny, a.nz, normalized(cross(p.v1 - p.v0, p.v2 - p.v0)));
                 }
             },
@@ -191,7 +193,7 @@ PacketScene compile(const Scene& scene) {
     pad(r.cx, r.cy, r.cz, r.nx, r.ny, r.nz, r.dual_ax, r.dual_ay, r.dual_az, r.dual_bx, r.dual_by, r.dual_bz);
     pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
     auto& t = s.triangles;
-    pad(t.x0, t.y0, t.z0, t.x1, t.y1, t.z1, t.x2, t.y2, t.z2, t.nx, t.ny, t.nz);
+    pad(t.vx, t.vy, t.vz, t.nx, t.ny, t.nz);
     pad(s.object_of, s.material_of);
 
     for (const DirectionalLight& l : scene.directional_lights) {

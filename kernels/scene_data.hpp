@@ -28,8 +28,14 @@ struct DiskArrays { Floats cx, cy, cz, nx, ny, nz, radius2; };
 // p = corner + s a + t b; s = (p - corner).dual_a, t = (p - corner).dual_b.
 struct RectangleArrays { Floats cx, cy, cz, nx, ny, nz, dual_ax, dual_ay, dual_az, dual_bx, dual_by, dual_bz; };
 struct BoxArrays { Floats minx, miny, minz, maxx, maxy, maxz; };
-// Vertices kept as given: the watertight test works in ray-relative space.
-struct TriangleArrays { Floats x0, y0, z0, x1, y1, z1, x2, y2, z2, nx, ny, nz; };
+// Indexed triangles, meshes' and single ones alike: shared vertices (as
+// given: the watertight test works in ray-relative space), three vertex
+// indices and the unit normal per triangle.
+struct TriangleArrays {
+    Floats vx, vy, vz;                       // per vertex
+    std::vector<std::int32_t> i0, i1, i2;    // per triangle
+    Floats nx, ny, nz;                       // per triangle
+};
 
 // ls * color premultiplied per light; shadows as 0/1 floats.
 struct DirectionalArrays { Floats lx, ly, lz, r, g, b, shadows; };

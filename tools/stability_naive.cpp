@@ -131,7 +131,8 @@ int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
             }
             const TriangleArrays& ta = s.triangles;
             for (int k = 0; k < s.count[5]; ++k)
-                take(triangle(o, d, at(ta.x0, ta.y0, ta.z0, k), at(ta.x1, ta.y1, ta.z1, k), at(ta.x2, ta.y2, ta.z2, k)),
+                take(triangle(o, d, at(ta.vx, ta.vy, ta.vz, ta.i0[std::size_t(k)]), at(ta.vx, ta.vy, ta.vz, ta.i1[std::size_t(k)]),
+                              at(ta.vx, ta.vy, ta.vz, ta.i2[std::size_t(k)])),
                      s.offset[5] + k, at(ta.nx, ta.ny, ta.nz, k));
         }
         if (dot(n, d) > 0) n = n * -1.0f;
