@@ -1,10 +1,12 @@
 // The 8-wide BVH builder (kernels/bvh.hpp): structural properties on
 // fixed-seed random inputs, determinism across thread counts, degenerate
-// inputs. The walks are checked in bvh_traversal_checks.hpp.
+// inputs; the walks against brute force (bvh_traversal_checks.hpp), here at
+// the default target and in test_bvh_avx2.cpp at AVX2.
 #include <doctest/doctest.h>
 
 #include "../kernels/bvh.hpp"
 #include "bvh_test_scenes.hpp"
+#include "bvh_traversal_checks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +16,7 @@
 #include <vector>
 
 namespace octray::test {
+bool avx2_bvh_checks();  // test_bvh_avx2.cpp: false where the CPU lacks AVX2
 namespace {
 
 using bvh::Box;
@@ -259,6 +262,17 @@ TEST_CASE("bvh: SAH cost is lower than a single leaf's") {
     const double cost = bvh::sah_cost(t, opt);
     CHECK(cost > 0.0);
     CHECK(cost < 0.1 * double(in.boxes.size()));
+}
+
+TEST_CASE("bvh walks: single float rays, double lanes, 4-float and 2-double packets (default target)") {
+    check_walks<float>(1u, 120);
+    check_walks<double>(2u, 60);
+    check_walks<xsimd::batch<float, xsimd::sse2>>(3u, 60);
+    check_walks<xsimd::batch<double, xsimd::sse2>>(4u, 40);
+}
+
+TEST_CASE("bvh walks at AVX2: 8-float node batches, 8-float and 4-double packets") {
+    if (!avx2_bvh_checks()) MESSAGE("this CPU has no AVX2: skipped");
 }
 
 }  // namespace
