@@ -117,12 +117,12 @@ void bm_intersect(benchmark::State& st, Layout layout, int n, Path path) {
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }
 
-// Intersect with culling switched off (every bounding sphere made infinite,
+// Intersect with culling switched off (every BVH node's boxes made infinite,
 // so every packet tests every primitive): the kernel's raw test throughput.
 void time_unculled(benchmark::State& st, const Fixture& f, Path path, Isa isa = Isa::best) {
     if (!check(st, f)) return;
     PacketScene all = f.scene;
-    for (ClusterTree& c : mutable_data(all).clusters) c.disable_culling();
+    disable_culling(all);
     time_intersect(st, select_kernel(all, path, Precision::exact, isa), all, f.rays);
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }

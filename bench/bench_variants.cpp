@@ -5,7 +5,7 @@
 //   hand        a kernel written here by hand for exactly that subset: explicit
 //               loops over the present primitive and light types, nothing else,
 //               from the same building blocks (intersect_sphere, intersect_plane, ...,
-//               for_each_candidate's cluster culling);
+//               for_each_candidate's BVH walk);
 //   general     general_kernel(): every feature compiled in, absent ones skipped
 //               at run time (zero-trip loops, ambient of zero, ...).
 // Target: dispatched within 2% of hand. The hand kernels keep the two-stage
@@ -68,7 +68,7 @@ int intersect_spheres(const PacketScene& scene, const RayPacket8& rp, HitPacket8
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     Closest<T> best{r.tmax, T(-1)};
-    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, kSphere>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
         best.take(hit, t, k);
@@ -86,11 +86,11 @@ int intersect_planes(const PacketScene& scene, const RayPacket8& rp, HitPacket8&
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const PlaneArrays& a = s.planes;
     Closest<T> best{r.tmax, T(-1)};
-    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
+    for (int k = 0; k < s.count[1]; ++k) {
         M hit;
         const T t = intersect_plane(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
         best.take(hit, t, k);
-    });
+    }
     const Lookup<T> at = hit_lookup(best);
     store_hit(s, r, best, at(a.nx, a.ny, a.nz), hp);
     return masked;
@@ -104,16 +104,16 @@ int intersect_spheres_planes(const PacketScene& scene, const RayPacket8& rp, Hit
     const SphereArrays& a = s.spheres;
     const PlaneArrays& b = s.planes;
     Closest<T> best{r.tmax, T(-1)};
-    for_each_candidate<PrimitiveType::sphere>(s, s.count[0], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, kSphere>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
         best.take(hit, t, k);
     });
-    for_each_candidate<PrimitiveType::plane>(s, s.count[1], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
+    for (int k = 0; k < s.count[1]; ++k) {
         M hit;
         const T t = intersect_plane(r, broadcast3<T>(b.px, b.py, b.pz, k), broadcast3<T>(b.nx, b.ny, b.nz, k), hit, best.t);
         best.take(hit, t, s.offset[1] + k);
-    });
+    }
     const T& cid = best.cid;
     const M is_sphere = cid >= T(0) && cid < T(float(s.count[0]));
     const M is_plane = cid >= T(float(s.offset[1]));
@@ -135,7 +135,7 @@ int intersect_triangles(const PacketScene& scene, const RayPacket8& rp, HitPacke
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const TriangleArrays& a = s.triangles;
     Closest<T> best{r.tmax, T(-1)};
-    for_each_candidate<PrimitiveType::triangle>(s, s.count[5], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, kTriangle>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = intersect_triangle(r, triangle_vertex<T>(a, a.i0, k), triangle_vertex<T>(a, a.i1, k),
                                        triangle_vertex<T>(a, a.i2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
@@ -153,7 +153,7 @@ int intersect_boxes(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const BoxArrays& a = s.boxes;
     Closest<T> best{r.tmax, T(-1)};
-    for_each_candidate<PrimitiveType::box>(s, s.count[4], r, best.t, [&](int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, kBox>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = intersect_box(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit, best.t);
         best.take(hit, t, k);

@@ -26,9 +26,6 @@ struct Closest {
     }
 };
 
-template <PrimitiveType Type>
-using TypeTag = std::integral_constant<PrimitiveType, Type>;
-
 // Calls body(TypeTag<type>, count) for each primitive type in F. Absent types
 // are removed at compile time; present ones loop over s.count.
 template <unsigned F, class Body>
@@ -79,15 +76,19 @@ OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Ray<T, P>& r, Mask<
 template <class T, Precision P, unsigned F>
 inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
     Closest<T> best{r.tmax, T(-1)};
-    LazyBeam<T, P> beam(r);
-    for_each_primitive_type<F>(s, [&](auto tag, int n) {
-        constexpr PrimitiveType type = decltype(tag)::value;
-        const int base = s.offset[int(type)];
-        for_each_candidate<type, F>(s, n, r, best.t, beam, [&](int k) OCTRAY_HOT_LAMBDA {
+    if constexpr ((F & kPlane) != 0) {
+        const int base = s.offset[int(PrimitiveType::plane)];
+        for (int k = 0; k < s.count[int(PrimitiveType::plane)]; ++k) {
             Mask<T> hit;
-            const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
+            const T t = test_primitive<PrimitiveType::plane, T, P>(s, k, r, hit, best.t);
             best.take(hit, t, base + k);
-        });
+        }
+    }
+    for_each_candidate<true, F>(s, r, r.valid, best.t, [&](auto tag, int k) OCTRAY_HOT_LAMBDA {
+        constexpr PrimitiveType type = decltype(tag)::value;
+        Mask<T> hit;
+        const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
+        best.take(hit, t, s.offset[int(type)] + k);
     });
     return best;
 }
@@ -194,22 +195,26 @@ int intersect_packet(const PacketScene& scene, const RayPacket8& rp, HitPacket8&
 
 // ---- any hit (shadow rays) -------------------------------------------------
 // The valid lanes of `live` blocked in (tmin, tmax). live.valid narrows as
-// lanes are blocked (the walk culls what none of the others can reach and
-// stops when none is left); the ray is the caller's, not copied: a copy of
-// the whole Ray costs more than a shadow ray's culling.
+// lanes are blocked (the walk stops when none is left); the ray is the
+// caller's, not copied: a copy of the whole Ray costs more than a shadow
+// ray's walk.
 template <class T, Precision P, unsigned F>
 inline Mask<T> any_hit(const SceneData& s, Ray<T, P>& live) {
     const Mask<T> valid = live.valid;
-    LazyBeam<T, P> beam(live);
-    for_each_primitive_type<F>(s, [&](auto tag, int n) {
-        constexpr PrimitiveType type = decltype(tag)::value;
-        if (!lane::any(live.valid)) return;
-        for_each_candidate<type, F>(s, n, live, live.tmax, beam, [&](int k) OCTRAY_HOT_LAMBDA {
+    if constexpr ((F & kPlane) != 0) {
+        for (int k = 0; k < s.count[int(PrimitiveType::plane)] && lane::any(live.valid); ++k) {
+            Mask<T> hit;
+            test_primitive<PrimitiveType::plane, T, P>(s, k, live, hit, live.tmax);
+            live.valid = live.valid && lane::not_(hit);
+        }
+    }
+    if (lane::any(live.valid))
+        for_each_candidate<false, F>(s, live, live.valid, live.tmax, [&](auto tag, int k) OCTRAY_HOT_LAMBDA {
+            constexpr PrimitiveType type = decltype(tag)::value;
             Mask<T> hit;
             test_primitive<type, T, P>(s, k, live, hit, live.tmax);
             live.valid = live.valid && lane::not_(hit);
         });
-    });
     return valid && lane::not_(live.valid);
 }
 

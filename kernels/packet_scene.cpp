@@ -30,74 +30,96 @@ void pad(A&... arrays) {
     (one(arrays), ...);
 }
 
-// A sphere that contains the primitive (none for the unbounded plane).
-std::optional<Bound> bound_of(const Shape& shape) {
-    return std::visit(
-        [](const auto& p) -> std::optional<Bound> {
+// x rounded to a float no greater (down) or no smaller (up) than x.
+float round_down(double x) {
+    const float f = float(x);
+    return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float round_up(double x) {
+    const float f = float(x);
+    return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+// An axis-aligned box around what the kernels test of a bounded primitive
+// (its float-rounded data), rounded outward to floats and widened by 2^-20 of
+// its size and position: the tests' own rounding never reaches past it.
+bvh::Box box_of(const Shape& shape) {
+    Vec3d lo, hi;
+    auto span = [&](const Vec3d& c, const Vec3d& half) { lo = c - half, hi = c + half; };
+    std::visit(
+        [&](const auto& p) {
             using P = std::decay_t<decltype(p)>;
             if constexpr (std::is_same_v<P, Sphere>) {
-                return Bound{p.center, p.radius};
-            } else if constexpr (std::is_same_v<P, Plane>) {
-                return std::nullopt;
+                const double r = float(p.radius);
+                span(Vec3d(Vec3f(p.center)), Vec3d{r, r, r});
             } else if constexpr (std::is_same_v<P, Disk>) {
-                return Bound{p.center, p.radius};
+                const double r = std::sqrt(double(float(p.radius * p.radius)));
+                span(Vec3d(Vec3f(p.center)), Vec3d{r, r, r});
             } else if constexpr (std::is_same_v<P, Rectangle>) {
-                const Vec3d c = p.corner + (p.a + p.b) * 0.5;
-                const double r = std::max(std::sqrt(length_squared((p.a + p.b) * 0.5)), std::sqrt(length_squared((p.a - p.b) * 0.5)));
-                return Bound{c, r};
+                lo = hi = p.corner;
+                for (const Vec3d& q : {p.corner + p.a, p.corner + p.b, p.corner + p.a + p.b})
+                    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)},
+                    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
             } else if constexpr (std::is_same_v<P, Box>) {
-                return Bound{(p.min + p.max) * 0.5, std::sqrt(length_squared((p.max - p.min) * 0.5))};
-            } else {
-                const Vec3d c = (p.v0 + p.v1 + p.v2) * (1.0 / 3.0);
-                const double r = std::max({std::sqrt(length_squared(p.v0 - c)), std::sqrt(length_squared(p.v1 - c)),
-                                           std::sqrt(length_squared(p.v2 - c))});
-                return Bound{c, r};
+                lo = Vec3d(Vec3f(p.min)), hi = Vec3d(Vec3f(p.max));
+            } else if constexpr (std::is_same_v<P, Triangle>) {
+                const Vec3d a(Vec3f(p.v0)), b(Vec3f(p.v1)), c(Vec3f(p.v2));
+                lo = {std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
+                hi = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
             }
         },
         shape);
+    const Vec3d size = hi - lo;
+    const double slack = 0x1p-20 * (std::max({size.x, size.y, size.z}) +
+                                    std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x),
+                                              std::fabs(hi.y), std::fabs(hi.z)}));
+    return {{round_down(lo.x - slack), round_down(lo.y - slack), round_down(lo.z - slack)},
+            {round_up(hi.x + slack), round_up(hi.y + slack), round_up(hi.z + slack)}};
 }
 
-// 30-bit Morton code of a point in [0,1]^3 (10 bits per axis, interleaved).
-std::uint32_t morton(double x, double y, double z) {
-    auto spread = [](double v) {
-        std::uint32_t b = std::uint32_t(std::clamp(v, 0.0, 1.0) * 1023.0);
-        b = (b | (b << 16)) & 0x030000FFu;
-        b = (b | (b << 8)) & 0x0300F00Fu;
-        b = (b | (b << 4)) & 0x030C30C3u;
-        return (b | (b << 2)) & 0x09249249u;
-    };
-    return (spread(x) << 2) | (spread(y) << 1) | spread(z);
-}
-
-// Object indices in the order compile() lays primitives out: within each type,
-// bounded primitives sorted along a Morton curve of their bounding-sphere
-// centres (stable, so equal codes keep scene order), which makes each cluster
-// of kClusterSize spatially compact; planes keep scene order.
-std::vector<std::size_t> spatial_order(const Scene& scene) {
-    std::vector<std::size_t> order(scene.objects.size());
-    std::vector<std::optional<Bound>> b(scene.objects.size());
-    Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (std::size_t i = 0; i < order.size(); ++i) {
-        order[i] = i;
-        b[i] = bound_of(scene.objects[i].shape);
-        if (!b[i]) continue;
-        const Vec3d& c = b[i]->center;
-        lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
-        hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
-    }
-    const Vec3d extent = hi - lo;
-    const double scale = 1.0 / std::max({extent.x, extent.y, extent.z, 1e-300});
-    std::vector<std::uint32_t> code(order.size(), 0);
-    for (std::size_t i = 0; i < order.size(); ++i)
-        if (b[i]) {
-            const Vec3d q = (b[i]->center - lo) * scale;
-            code[i] = morton(q.x, q.y, q.z);
-        }
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t c) {
-        const auto ta = scene.objects[a].shape.index(), tc = scene.objects[c].shape.index();
-        return ta != tc ? ta < tc : code[a] < code[c];
-    });
-    return order;
+// Appends one primitive to its type's arrays.
+void append_primitive(SceneData& s, const Shape& shape) {
+    std::visit(
+        [&](const auto& p) {
+            using P = std::decay_t<decltype(p)>;
+            if constexpr (std::is_same_v<P, Sphere>) {
+                auto& a = s.spheres;
+                push3(a.cx, a.cy, a.cz, p.center);
+                push(a.inv_radius, 1.0 / p.radius);
+                push(a.radius, p.radius);
+            } else if constexpr (std::is_same_v<P, Plane>) {
+                auto& a = s.planes;
+                push3(a.px, a.py, a.pz, p.point);
+                push3(a.nx, a.ny, a.nz, normalized(p.normal));
+            } else if constexpr (std::is_same_v<P, Disk>) {
+                auto& a = s.disks;
+                push3(a.cx, a.cy, a.cz, p.center);
+                push3(a.nx, a.ny, a.nz, normalized(p.normal));
+                push(a.radius2, p.radius * p.radius);
+            } else if constexpr (std::is_same_v<P, Rectangle>) {
+                // Dual basis of (a, b) in their plane: dual_a.a = 1, dual_a.b = 0, ...
+                auto& a = s.rectangles;
+                const Vec3d n = normalized(cross(p.a, p.b));
+                const Vec3d bn = cross(p.b, n), na = cross(n, p.a);
+                push3(a.cx, a.cy, a.cz, p.corner);
+                push3(a.nx, a.ny, a.nz, n);
+                push3(a.dual_ax, a.dual_ay, a.dual_az, bn * (1.0 / dot(p.a, bn)));
+                push3(a.dual_bx, a.dual_by, a.dual_bz, na * (1.0 / dot(p.b, na)));
+            } else if constexpr (std::is_same_v<P, Box>) {
+                auto& a = s.boxes;
+                push3(a.minx, a.miny, a.minz, p.min);
+                push3(a.maxx, a.maxy, a.maxz, p.max);
+            } else {
+                auto& a = s.triangles;
+                const auto first = std::int32_t(a.vx.size());
+                push3(a.vx, a.vy, a.vz, p.v0);
+                push3(a.vx, a.vy, a.vz, p.v1);
+                push3(a.vx, a.vy, a.vz, p.v2);
+                a.i0.push_back(first), a.i1.push_back(first + 1), a.i2.push_back(first + 2);
+                push3(a.nx, a.ny, a.nz, normalized(cross(p.v1 - p.v0, p.v2 - p.v0)));
+            }
+        },
+        shape);
 }
 
 }  // namespace
@@ -120,6 +142,14 @@ SceneData& mutable_data(PacketScene& scene) {
     return *scene.data_;
 }
 
+void disable_culling(PacketScene& scene) {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    for (bvh::Node8& node : mutable_data(scene).bvh.nodes)
+        for (int c = 0; c < bvh::kWidth; ++c)
+            if (node.child[c] != bvh::kEmptySlot)
+                node.lo_x[c] = node.lo_y[c] = node.lo_z[c] = -inf, node.hi_x[c] = node.hi_y[c] = node.hi_z[c] = inf;
+}
+
 PacketScene compile(const Scene& scene) {
     constexpr std::size_t kMaxIndex = std::size_t(1) << 24;  // indices travel as exact floats
     if (scene.objects.size() >= kMaxIndex || scene.materials.size() >= kMaxIndex)
@@ -132,60 +162,33 @@ PacketScene compile(const Scene& scene) {
     for (const Object& o : scene.objects) ++s.count[std::size_t(primitive_type(o.shape))];
     for (int t = 1; t < kPrimitiveTypeCount; ++t) s.offset[std::size_t(t)] = s.offset[std::size_t(t - 1)] + s.count[std::size_t(t - 1)];
 
+    // Bounded primitives go into one BVH; its leaf order is each type's
+    // compiled order. Planes keep scene order.
+    std::array<std::vector<std::size_t>, kPrimitiveTypeCount> of_type;  // object indices, scene order
+    bvh::BuildInput input;
+    input.kind_count = kPrimitiveTypeCount;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const PrimitiveType type = primitive_type(scene.objects[i].shape);
+        of_type[std::size_t(type)].push_back(i);
+        if (type == PrimitiveType::plane) continue;
+        input.boxes.push_back(box_of(scene.objects[i].shape));
+        input.kind.push_back(std::uint8_t(type));
+    }
+    s.bvh = bvh::build_bvh8(input);
+
     s.object_of.resize(scene.objects.size());
     s.material_of.resize(scene.objects.size());
-    std::array<int, kPrimitiveTypeCount> next = s.offset;
-    std::array<std::vector<Bound>, kPrimitiveTypeCount> bounds;
-    for (const std::size_t i : spatial_order(scene)) {
-        const Object& o = scene.objects[i];
-        const int cid = next[std::size_t(primitive_type(o.shape))]++;
-        s.object_of[std::size_t(cid)] = float(i);
-        s.material_of[std::size_t(cid)] = float(o.material);
-        if (const auto b = bound_of(o.shape)) bounds[std::size_t(primitive_type(o.shape))].push_back(*b);
-        std::visit(
-            [&](const auto& p) {
-                using P = std::decay_t<decltype(p)>;
-                if constexpr (std::is_same_v<P, Sphere>) {
-                    auto& a = s.spheres;
-                    push3(a.cx, a.cy, a.cz, p.center);
-                    push(a.inv_radius, 1.0 / p.radius);
-                    push(a.radius, p.radius);
-                } else if constexpr (std::is_same_v<P, Plane>) {
-                    auto& a = s.planes;
-                    push3(a.px, a.py, a.pz, p.point);
-                    push3(a.nx, a.ny, a.nz, normalized(p.normal));
-                } else if constexpr (std::is_same_v<P, Disk>) {
-                    auto& a = s.disks;
-                    push3(a.cx, a.cy, a.cz, p.center);
-                    push3(a.nx, a.ny, a.nz, normalized(p.normal));
-                    push(a.radius2, p.radius * p.radius);
-                } else if constexpr (std::is_same_v<P, Rectangle>) {
-                    // Dual basis of (a, b) in their plane: dual_a.a = 1, dual_a.b = 0, ...
-                    auto& a = s.rectangles;
-                    const Vec3d n = normalized(cross(p.a, p.b));
-                    const Vec3d bn = cross(p.b, n), na = cross(n, p.a);
-                    push3(a.cx, a.cy, a.cz, p.corner);
-                    push3(a.nx, a.ny, a.nz, n);
-                    push3(a.dual_ax, a.dual_ay, a.dual_az, bn * (1.0 / dot(p.a, bn)));
-                    push3(a.dual_bx, a.dual_by, a.dual_bz, na * (1.0 / dot(p.b, na)));
-                } else if constexpr (std::is_same_v<P, Box>) {
-                    auto& a = s.boxes;
-                    push3(a.minx, a.miny, a.minz, p.min);
-                    push3(a.maxx, a.maxy, a.maxz, p.max);
-                } else {
-                    auto& a = s.triangles;
-                    const auto first = std::int32_t(a.vx.size());
-                    push3(a.vx, a.vy, a.vz, p.v0);
-                    push3(a.vx, a.vy, a.vz, p.v1);
-                    push3(a.vx, a.vy, a.vz, p.v2);
-                    a.i0.push_back(first), a.i1.push_back(first + 1), a.i2.push_back(first + 2);
-                    push3(a.nx, a.ny, a.nz, normalized(cross(p.v1 - p.v0, p.v2 - p.v0)));
-                }
-            },
-            o.shape);
+    for (int type = 0; type < kPrimitiveTypeCount; ++type) {
+        const std::vector<std::size_t>& objects = of_type[std::size_t(type)];
+        for (std::size_t pos = 0; pos < objects.size(); ++pos) {
+            const bool planes = type == int(PrimitiveType::plane);
+            const std::size_t i = objects[planes ? pos : s.bvh.order[std::size_t(type)][pos]];
+            const std::size_t cid = std::size_t(s.offset[std::size_t(type)]) + pos;
+            s.object_of[cid] = float(i);
+            s.material_of[cid] = float(scene.objects[i].material);
+            append_primitive(s, scene.objects[i].shape);
+        }
     }
-    for (int t = 0; t < kPrimitiveTypeCount; ++t) s.clusters[std::size_t(t)] = build_cluster_tree(bounds[std::size_t(t)]);
-    // The per-type arrays were filled in spatial_order, which is type-major like the compiled ids.
     pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.inv_radius, s.spheres.radius);
     pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
     pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);

@@ -4,16 +4,16 @@
 // One set of arrays per primitive type and per light type, each padded to a
 // multiple of the packet width and 64-byte aligned. Only the types a scene
 // has are filled. Primitives are renumbered type by type ("compiled id" =
-// offset[type] + index within type), and within a type along a Morton curve
-// of their bounding spheres (planes: scene order), so clusters are compact;
-// `object_of` maps a compiled id back to its Scene::objects index. Two
-// primitives hit at exactly the same t (coincident faces, a ray through a
-// shared mesh edge) resolve to the one earlier in compiled order, which need
-// not be the lower object index the reference keeps.
+// offset[type] + index within type), and within a type in the order of the
+// BVH's leaves (planes: scene order), so a leaf's primitives of a type are
+// one run of that type's arrays; `object_of` maps a compiled id back to its
+// Scene::objects index. Two primitives hit at exactly the same t (coincident
+// faces, a ray through a shared mesh edge) resolve to the one tested first,
+// which need not be the lower object index the reference keeps.
 #pragma once
 
 #include "aligned.hpp"
-#include "cluster_tree.hpp"
+#include "bvh.hpp"
 
 #include <octray/packet_scene.hpp>
 
@@ -52,8 +52,9 @@ struct SceneData {
     Features features;
     std::array<int, kPrimitiveTypeCount> count{};   // primitives per type
     std::array<int, kPrimitiveTypeCount> offset{};  // first compiled id per type
-    // Per type, the bounding-sphere tree over its clusters; planes have none.
-    std::array<ClusterTree, kPrimitiveTypeCount> clusters;
+    // One 8-wide BVH over every bounded primitive (kind = PrimitiveType);
+    // planes stay outside it.
+    bvh::Bvh8 bvh;
     SphereArrays spheres;
     PlaneArrays planes;
     DiskArrays disks;
@@ -78,9 +79,12 @@ struct SceneData {
     float inv_gamma = 1;
 };
 
-// Test and benchmark hook: a compiled scene's data, writable (e.g. to
-// disable_culling() on its trees); `scene` gets its own copy first, so the
-// copies it was made from or shared with keep theirs.
+// Test and benchmark hook: a compiled scene's data, writable; `scene` gets
+// its own copy first, so the copies it was made from or shared with keep theirs.
 SceneData& mutable_data(PacketScene& scene);
+
+// Test and benchmark hook: every node's children made infinite boxes, so a
+// walk skips nothing and tests every bounded primitive.
+void disable_culling(PacketScene& scene);
 
 }  // namespace octray

@@ -1,5 +1,5 @@
-// Culling (culling.hpp): what the bounding-sphere trees and the packet beam
-// skip changes no result, bit for bit.
+// Culling (culling.hpp): what the scene's BVH lets a walk skip changes no
+// result, bit for bit.
 #include <doctest/doctest.h>
 
 #include "support.hpp"
@@ -21,9 +21,9 @@
 using namespace octray;
 using namespace octray::test;
 
-TEST_CASE("cluster culling: scenes of hundreds of primitives agree with the reference, and the paths bit for bit") {
-    // Many primitives of every type, scattered, so packets skip most clusters
-    // (bounding-sphere tree) and test a few: culling must change no lane.
+TEST_CASE("BVH culling: scenes of hundreds of primitives agree with the reference, and the paths bit for bit") {
+    // Many primitives of every type, scattered, so packets skip most of the
+    // BVH and test a few leaves: culling must change no lane.
     std::mt19937 rng(2024);
     auto u = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
     Scene s;
@@ -49,34 +49,20 @@ TEST_CASE("cluster culling: scenes of hundreds of primitives agree with the refe
         s.objects.push_back(Object{shape, i % 2});
     }
     const PacketScene ps = compile(s);
-    // 80 spheres: clusters of kClusterSize under a root of runs of kTreeWidth
-    // clusters (the last shorter), each node's children consecutive, leaves
-    // in compiled order, every node's sphere around its primitives' spheres.
-    const ClusterTree& tree = ps.data().clusters[0];
-    const int clusters = (80 + kClusterSize - 1) / kClusterSize;
-    REQUIRE(clusters > kTreeWidth);
-    REQUIRE(clusters <= kTreeWidth * kTreeWidth);
-    const int runs = (clusters + kTreeWidth - 1) / kTreeWidth;
-    REQUIRE(tree.size() == 1 + runs + clusters);
-    CHECK(tree.child_count[0] == runs);
-    CHECK(tree.child_count[1] == kTreeWidth);
-    CHECK(tree.child_count[std::size_t(runs)] == clusters - (runs - 1) * kTreeWidth);
-    CHECK(tree.px.size() == std::size_t(80 + kTreeWidth));
-    auto inside = [&](int node, int k) {
-        const double dx = double(tree.px[std::size_t(k)]) - tree.cx[std::size_t(node)];
-        const double dy = double(tree.py[std::size_t(k)]) - tree.cy[std::size_t(node)];
-        const double dz = double(tree.pz[std::size_t(k)]) - tree.cz[std::size_t(node)];
-        return std::sqrt(dx * dx + dy * dy + dz * dz) + tree.pradius[std::size_t(k)] <= tree.radius[std::size_t(node)];
-    };
-    for (int j = 0, leaves = 0; j < tree.size(); ++j) {
-        if (tree.first_child[std::size_t(j)] >= 0) continue;
-        CHECK(tree.cluster[std::size_t(j)] == leaves);
-        for (int k = leaves * kClusterSize; k < std::min(80, (leaves + 1) * kClusterSize); ++k) {
-            CHECK(inside(j, k));
-            CHECK(inside(0, k));
+    // Every bounded primitive is in exactly one leaf, as a run of its type's
+    // compiled arrays, inside every box on its way down; planes are not.
+    const SceneData& data = ps.data();
+    REQUIRE(!data.bvh.empty());
+    std::vector<int> seen(std::size_t(ps.primitive_count()), 0);
+    for (const bvh::Leaf& leaf : data.bvh.leaves)
+        for (int type = 0; type < kPrimitiveTypeCount; ++type)
+            for (std::uint32_t k = leaf.begin[type]; k < leaf.begin[type] + leaf.count[type]; ++k)
+                ++seen[std::size_t(data.offset[std::size_t(type)]) + k];
+    for (int type = 0; type < kPrimitiveTypeCount; ++type)
+        for (int k = 0; k < data.count[std::size_t(type)]; ++k) {
+            CAPTURE(type);
+            CHECK(seen[std::size_t(data.offset[std::size_t(type)] + k)] == (type == int(PrimitiveType::plane) ? 0 : 1));
         }
-        ++leaves;
-    }
     const ReferenceRender ref = render_reference(s);
     PacketRender out[2];
     for (Path path : {Path::scalar, Path::simd}) {
@@ -93,17 +79,17 @@ TEST_CASE("cluster culling: scenes of hundreds of primitives agree with the refe
     }
     CHECK(out[0].radiance.rgb == out[1].radiance.rgb);
     CHECK(out[0].primitive == out[1].primitive);
-    // The tree only skips work: with every bound infinite (nothing culled,
-    // every primitive tested in compiled order) the image is the same, bit for bit.
+    // The tree only skips work: with every box infinite (nothing culled,
+    // every primitive tested) the image is the same, bit for bit.
     PacketScene unculled = ps;
-    for (ClusterTree& c : mutable_data(unculled).clusters) c.disable_culling();
+    disable_culling(unculled);
     for (Path path : {Path::scalar, Path::simd}) {
         const PacketRender all = render_packet(select_kernel(unculled, path), unculled);
         CHECK(all.radiance.rgb == out[int(path)].radiance.rgb);
         CHECK(all.primitive == out[int(path)].primitive);
     }
 
-    // Any-hit (shadow) queries skip clusters the same way: against the
+    // Any-hit (shadow) queries skip leaves the same way: against the
     // reference's "anything in (0, tmax)?" on random rays, disagreeing only
     // where some primitive's answer flips under a 1e-5 perturbation.
     RandomRays rays(77);
@@ -136,9 +122,9 @@ TEST_CASE("cluster culling: scenes of hundreds of primitives agree with the refe
     CHECK(boundary <= 40);
 }
 
-TEST_CASE("the packet beam skips only what no ray of the packet could hit: bundles of every coherence, bit for bit") {
+TEST_CASE("the BVH walk skips only what no ray of the packet could hit: bundles of every coherence, bit for bit") {
     // 1200 small primitives (spheres, boxes, triangles) in a 40-unit cube: a
-    // tree three levels deep. Packets: bundles around a random ray whose lanes
+    // tree several levels deep. Packets: bundles around a random ray whose lanes
     // spread in origin (0 .. 3 units) and angle (0 .. 2 rad), far from the
     // scene's origin too; some lanes inactive or invalid. Every answer must be
     // the one of the same scene with every bound infinite (nothing skipped),
@@ -162,9 +148,9 @@ TEST_CASE("the packet beam skips only what no ray of the packet could hit: bundl
         s.objects.push_back(Object{shape, 0});
     }
     const PacketScene culled = compile(s);
-    REQUIRE(culled.data().clusters[0].size() > 1 + kTreeWidth);  // more than one level of inner nodes
+    REQUIRE(culled.data().bvh.depth >= 3);
     PacketScene unculled = culled;
-    for (ClusterTree& c : mutable_data(unculled).clusters) c.disable_culling();
+    disable_culling(unculled);
     RandomRays rays(5);
     const double origin_spread[] = {0, 1e-3, 0.1, 3};
     const double angle_spread[] = {0, 1e-3, 0.05, 0.5, 2};
@@ -175,7 +161,7 @@ TEST_CASE("the packet beam skips only what no ray of the packet could hit: bundl
         for (Precision precision : kPrecisions) {
             if ((unit.modes & kernels::mode_bit(precision)) == 0) continue;
             ++units;
-            // The general kernel: kernels with several bounded types walk out of line.
+            // The general kernel: every type compiled into the leaf tests.
             const Kernel kc = unit.kernel(precision, kAllFeatures, kAllFeatures), &ku = kc;
             INFO(path_name(unit.path) << "/" << unit.isa << "/" << precision_name(precision));
             for (int p = 0; p < 200; ++p, ++packets) {
