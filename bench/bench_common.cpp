@@ -150,8 +150,7 @@ double camera_flops_per_ray(bool orthographic) { return orthographic ? 20 : 27; 
 // =============================================================================
 
 const char* layout_name(Layout l) {
-    constexpr const char* names[] = {"sphere", "plane", "disk", "rectangle", "box", "triangle", "mixed"};
-    return names[int(l)];
+    return l == Layout::mixed ? "mixed" : primitive_type_name(PrimitiveType(int(l)));  // the first six are the types
 }
 
 namespace {
@@ -181,7 +180,7 @@ Scene grid_scene(Layout layout, int n, bool floor, int width, int height) {
     constexpr double kCell = 2.5;
     const double extent = std::max(cols, rows) * kCell / 2;
     const double dist = 1.5 + 2.8 * extent;
-    const double down = 40.0 * 3.14159265358979323846 / 180.0;
+    const double down = 40.0 * kPi / 180.0;
     s.camera.type = CameraType::pinhole;
     s.camera.look_at = {0, 0, 0};
     s.camera.eye = {0, dist * std::sin(down), dist * std::cos(down)};

@@ -14,7 +14,6 @@ namespace octray::reference {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double length(const Vec3d& a) { return std::sqrt(length_squared(a)); }

@@ -13,17 +13,16 @@ int run_info(const InfoArgs& args) {
     const Scene scene = load_scene(args.scene);
     const PacketScene packet = compile(scene);
     const Features& f = packet.features;
-    static constexpr const char* tonemaps[] = {"max_to_one", "clamp_to_color", "saturate"};
     std::printf("scene        %s\n", args.scene.c_str());
     std::printf("image        %dx%d %s\n", scene.camera.width, scene.camera.height,
-                scene.camera.type == CameraType::pinhole ? "pinhole" : "orthographic");
+                camera_type_name(scene.camera.type));
     std::printf("primitives   sphere %d, plane %d, disk %d, rectangle %d, box %d, triangle %d\n", packet.count[0],
                 packet.count[1], packet.count[2], packet.count[3], packet.count[4], packet.count[5]);
     std::printf("lights       ambient %s, directional %d, point %d, point inverse_square %d\n",
                 scene.ambient ? "yes" : "no", packet.directional_count, packet.point_count,
                 packet.point_attenuated_count);
     std::printf("features     %s\n", feature_string(f.bits).c_str());
-    std::printf("tone map     %s, gamma %s\n", tonemaps[int(f.tonemap)], f.gamma ? "yes" : "no (1)");
+    std::printf("tone map     %s, gamma %s\n", tonemap_name(f.tonemap), f.gamma ? "yes" : "no (1)");
     std::printf("simd         %s\n", !simd_supported()   ? "AVX2+FMA not available: scalar fallback"
                                      : avx512_supported() ? "AVX2+FMA and AVX-512 F+VL available: both paths run the AVX-512 units"
                                                           : "AVX2+FMA available");

@@ -4,6 +4,8 @@
 // main() turns into one line on stderr.
 #pragma once
 
+#include <octray/kernels.hpp>
+
 #include <string>
 
 namespace octray::cli {
@@ -12,11 +14,14 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;
 inline constexpr int kExitBadInput = 2;
 
+// `--path`: a kernel Path by its path_name() (kernels.hpp), or the reference renderer.
+inline constexpr const char* kReferencePathName = "reference";
+
 struct RenderArgs {
     std::string scene;
     std::string output;
     std::string hdr;  // empty: no PFM
-    std::string path = "simd";
+    std::string path = path_name(Path::simd);
     int threads = 0;  // 0: all cores
 };
 int run_render(const RenderArgs& args);

@@ -28,6 +28,12 @@ constexpr double kDegenerateSine = 1e-9;
 std::string member(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
 std::string element(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
 
+// An enum's name table (scene.hpp) as a list of allowed strings.
+template <std::size_t N>
+Names names_of(const char* const (&table)[N]) {
+    return Names(table, table + N);
+}
+
 std::string join(const Names& names) {
     std::string out;
     for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
@@ -184,9 +190,8 @@ public:
     }
 
     Camera camera(const Json& j, const std::string& path) const {
-        static const Names types{"pinhole", "orthographic"};
         Camera cam;
-        cam.type = static_cast<CameraType>(type_of(j, path, "camera", types));
+        cam.type = static_cast<CameraType>(type_of(j, path, "camera", names_of(kCameraTypeNames)));
         const bool pinhole = cam.type == CameraType::pinhole;
         const Names fields = pinhole ? Names{"type", "eye", "look_at", "up", "fov_y", "width", "height"}
                                      : Names{"type", "eye", "look_at", "up", "height_world", "width", "height"};
@@ -274,7 +279,7 @@ public:
                 p.shadows = shadows;
                 if (auto* v = optional(l, "attenuation"))
                     p.attenuation = static_cast<Attenuation>(
-                        one_of(*v, member(lpath, "attenuation"), "attenuation", {"none", "inverse_square"}));
+                        one_of(*v, member(lpath, "attenuation"), "attenuation", names_of(kAttenuationNames)));
                 scene.point_lights.push_back(p);
             }
         }
@@ -351,7 +356,6 @@ public:
 
     std::vector<Object> objects(const Json& j, const std::string& path, const std::vector<Material>& mats) const {
         if (!j.is_array()) fail(path, "must be an array, got " + describe(j));
-        static const Names types{"sphere", "plane", "disk", "rectangle", "box", "triangle"};
         static const std::vector<Names> fields{
             {"type", "center", "radius", "material"},         {"type", "point", "normal", "material"},
             {"type", "center", "normal", "radius", "material"}, {"type", "corner", "a", "b", "material"},
@@ -363,7 +367,7 @@ public:
         for (std::size_t i = 0; i < j.size(); ++i) {
             const Json& o = j[i];
             const std::string opath = element(path, i);
-            const auto type = static_cast<PrimitiveType>(type_of(o, opath, "object", types));
+            const auto type = static_cast<PrimitiveType>(type_of(o, opath, "object", names_of(kPrimitiveTypeNames)));
             const std::string what = std::string("a ") + primitive_type_name(type);
             reject_unknown(o, opath, what, fields[static_cast<std::size_t>(type)]);
             Object obj;
@@ -388,7 +392,7 @@ public:
         RenderSettings r;
         if (auto* v = optional(j, "tonemap"))
             r.tonemap = static_cast<ToneMap>(
-                one_of(*v, member(path, "tonemap"), "tonemap", {"max_to_one", "clamp_to_color", "saturate"}));
+                one_of(*v, member(path, "tonemap"), "tonemap", names_of(kToneMapNames)));
         // clamp_color is a display colour, written as is: it must already be in [0, 1].
         if (auto* v = optional(j, "clamp_color")) r.clamp_color = color(*v, member(path, "clamp_color"), 1.0);
         if (auto* v = optional(j, "gamma")) r.gamma = positive(*v, member(path, "gamma"));

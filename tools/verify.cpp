@@ -14,7 +14,6 @@
 namespace octray {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Radiance of a hit with every light at n.l = 1 and unshadowed: the scale
 // against which float rounding of n.l is an absolute error.

@@ -7,6 +7,7 @@
 // the seed (../shared/seed/lights-and-materials.md, eq. 1, 3, 6, 7, 8).
 #pragma once
 
+#include <octray/constants.hpp>
 #include <octray/vec3.hpp>
 
 #include <optional>
@@ -17,6 +18,10 @@
 namespace octray {
 
 enum class CameraType { pinhole, orthographic };
+// Each enum's names (the JSON and CLI spelling), in enumerator order, defined
+// once beside it; the loader, the CLI and the tools read them from here.
+inline constexpr const char* kCameraTypeNames[] = {"pinhole", "orthographic"};
+inline constexpr const char* camera_type_name(CameraType t) { return kCameraTypeNames[static_cast<int>(t)]; }
 
 struct Camera {
     CameraType type = CameraType::pinhole;
@@ -44,6 +49,8 @@ struct AmbientLight {
 };
 
 enum class Attenuation { none, inverse_square };
+inline constexpr const char* kAttenuationNames[] = {"none", "inverse_square"};
+inline constexpr const char* attenuation_name(Attenuation a) { return kAttenuationNames[static_cast<int>(a)]; }
 
 // Directional light, seed eq. 3. `direction` is unit and points from the
 // surface toward the light (the seed's l).
@@ -74,10 +81,9 @@ using Shape = std::variant<Sphere, Plane, Disk, Rectangle, Box, Triangle>;
 
 enum class PrimitiveType { sphere = 0, plane, disk, rectangle, box, triangle };
 inline constexpr int kPrimitiveTypeCount = 6;
-inline constexpr const char* primitive_type_name(PrimitiveType t) {
-    constexpr const char* names[] = {"sphere", "plane", "disk", "rectangle", "box", "triangle"};
-    return names[static_cast<int>(t)];
-}
+inline constexpr const char* kPrimitiveTypeNames[kPrimitiveTypeCount] = {"sphere", "plane", "disk",
+                                                                          "rectangle", "box", "triangle"};
+inline constexpr const char* primitive_type_name(PrimitiveType t) { return kPrimitiveTypeNames[static_cast<int>(t)]; }
 inline PrimitiveType primitive_type(const Shape& s) { return static_cast<PrimitiveType>(s.index()); }
 
 struct Object {
@@ -86,6 +92,8 @@ struct Object {
 };
 
 enum class ToneMap { max_to_one, clamp_to_color, saturate };
+inline constexpr const char* kToneMapNames[] = {"max_to_one", "clamp_to_color", "saturate"};
+inline constexpr const char* tonemap_name(ToneMap t) { return kToneMapNames[static_cast<int>(t)]; }
 
 struct RenderSettings {
     ToneMap tonemap = ToneMap::max_to_one;
