@@ -1,5 +1,6 @@
 // kernels/packet_scene.cpp — Scene (AoS, double) -> PacketScene (SoA, float).
 #include <octray/packet_scene.hpp>
+#include <octray/reference.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -286,8 +287,8 @@ PacketScene compile(const Scene& scene) {
     }
 
     for (const Material& m : scene.materials) {
-        const Vec3d amb = scene.ambient ? hadamard(m.cd * m.ka, scene.ambient->color * scene.ambient->ls) : Vec3d{};
-        const Vec3d dif = m.cd * (m.kd / kPi);
+        const Vec3d amb = reference::ambient_term(scene, m);  // the reference's eq. 7 and 8 terms, in double
+        const Vec3d dif = reference::lambertian_brdf(m);
         push3(s.ambient_r, s.ambient_g, s.ambient_b, amb);
         push3(s.diffuse_r, s.diffuse_g, s.diffuse_b, dif);
     }

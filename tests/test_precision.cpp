@@ -102,9 +102,6 @@ ReferenceHits reference_hits(const Scene& scene) {
     };
     ReferenceHits r;
     std::vector<Key> keys(w * h);
-    auto unblocked = [&](const Vec3d& from, const Vec3d& dir, double dist) {
-        return reference::trace(scene, {from, dir}, 0.0, dist).object < 0;
-    };
     for (std::size_t j = 0; j < h; ++j)
         for (std::size_t i = 0; i < w; ++i) {
             const reference::Ray& ray = r.rays.emplace_back(reference::camera_ray(c, int(i), int(j)));
@@ -113,17 +110,12 @@ ReferenceHits reference_hits(const Scene& scene) {
             if (hit.object < 0) continue;
             const Shape& shape = scene.objects[std::size_t(hit.object)].shape;
             if (std::holds_alternative<Box>(shape)) k.face = reference::geometric_normal(shape, hit.point);
-            // The reference's shadow rays (kernels/reference.cpp).
-            const Vec3d o = hit.point + hit.normal * (1e-9 * (1 + std::sqrt(dot(hit.point, hit.point))));
+            // The reference's shadow test (reference::shadowed).
             unsigned bit = 1;
             for (const DirectionalLight& l : scene.directional_lights)
-                if (l.shadows) k.visible |= unblocked(o, l.direction, 1e300) ? bit : 0, bit <<= 1;
+                if (l.shadows) k.visible |= reference::shadowed(scene, hit, l) ? 0 : bit, bit <<= 1;
             for (const PointLight& l : scene.point_lights)
-                if (l.shadows) {
-                    const Vec3d v = l.position - o;
-                    const double d = std::sqrt(dot(v, v));
-                    k.visible |= unblocked(o, v * (1 / d), d) ? bit : 0, bit <<= 1;
-                }
+                if (l.shadows) k.visible |= reference::shadowed(scene, hit, l) ? 0 : bit, bit <<= 1;
         }
     r.edge.assign(w * h, 0);
     for (std::size_t j = 0; j < h; ++j)

@@ -302,7 +302,7 @@ Measure check_radiance(const Scene& scene, const std::vector<Lane>& lanes, const
         if (h.object >= 0) {
             const Object& obj = scene.objects[std::size_t(h.object)];
             const Material& mat = scene.materials[std::size_t(obj.material)];
-            diffuse = mat.cd * (mat.kd / kPi);
+            diffuse = reference::lambertian_brdf(mat);
             const Vec3d& p = h.point;
             // The kernel shades its own hit point: off by its t error along d,
             // by the rounding of o + t d, and by the inputs' rounding.
