@@ -14,7 +14,7 @@ namespace octray {
 namespace {
 
 
-Vec3d normalized(const Vec3d& v) { return v * (1.0 / std::sqrt(dot(v, v))); }
+Vec3d normalized(const Vec3d& v) { return unit_direction(v); }  // the reference's normalization (scene.hpp)
 
 void push(Floats& a, double v) { a.push_back(float(v)); }
 void push3(Floats& x, Floats& y, Floats& z, const Vec3d& v) { push(x, v.x), push(y, v.y), push(z, v.z); }

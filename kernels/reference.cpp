@@ -256,7 +256,7 @@ Vec3d geometric_normal(const Shape& shape, const Vec3d& p) {
         [&](const auto& s) -> Vec3d {
             using S = std::decay_t<decltype(s)>;
             if constexpr (std::is_same_v<S, Sphere>) return normalize(p - s.center);
-            else if constexpr (std::is_same_v<S, Plane> || std::is_same_v<S, Disk>) return normalize(s.normal);
+            else if constexpr (std::is_same_v<S, Plane> || std::is_same_v<S, Disk>) return unit_direction(s.normal);
             else if constexpr (std::is_same_v<S, Rectangle>) return normalize(cross(s.a, s.b));
             else if constexpr (std::is_same_v<S, Box>) return box_normal_at(s, p);
             else return normalize(cross(s.v1 - s.v0, s.v2 - s.v0));
@@ -294,7 +294,7 @@ Vec3d ambient_term(const Scene& scene, const Material& m) {
 Vec3d lambertian_brdf(const Material& m) { return m.cd * (m.kd / kPi); }
 
 bool shadowed(const Scene& scene, const Hit& hit, const DirectionalLight& light) {
-    return light.shadows && occluded(scene, {shadow_origin(hit), light.direction}, kInf);
+    return light.shadows && occluded(scene, {shadow_origin(hit), unit_direction(light.direction)}, kInf);
 }
 
 bool shadowed(const Scene& scene, const Hit& hit, const PointLight& light) {
@@ -314,7 +314,7 @@ Vec3d shade(const Scene& scene, const Ray& /*ray*/, const Hit& hit) {
 
     Vec3d L = ambient_term(scene, m);
     for (const DirectionalLight& light : scene.directional_lights) {
-        const double n_dot_l = dot(n, light.direction);
+        const double n_dot_l = dot(n, unit_direction(light.direction));  // scene.hpp: any length, used as unit
         if (!(n_dot_l > 0.0) || shadowed(scene, hit, light)) continue;
         L += lambert(m, light.color, light.ls, n_dot_l);
     }

@@ -2,6 +2,7 @@
 // built in code (the JSON loader checks the same rules with file positions).
 #include <octray/scene.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -40,6 +41,14 @@ void spans_area(const std::string& path, const Vec3d& a, const Vec3d& b) {
 }
 
 }  // namespace
+
+Vec3d unit_direction(const Vec3d& v) {
+    // m = 2^e * [1, 2): scaling by 2^-e is exact and brings the largest component to [1, 2).
+    const int e = std::ilogb(std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}));
+    const Vec3d s{std::scalbn(v.x, -e), std::scalbn(v.y, -e), std::scalbn(v.z, -e)};
+    const double len = std::sqrt(dot(s, s));
+    return {s.x / len, s.y / len, s.z / len};
+}
 
 void validate(const Scene& scene) {
     const Camera& c = scene.camera;

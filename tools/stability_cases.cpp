@@ -315,7 +315,7 @@ Measure check_radiance(const Scene& scene, const std::vector<Lane>& lanes, const
                 if (ndl > 0) irradiance += radiance * (falloff * ndl);
             };
             for (const DirectionalLight& d : scene.directional_lights)
-                add(d.color * d.ls, dot(h.normal, d.direction), 1, 2 * in);
+                add(d.color * d.ls, dot(h.normal, unit_direction(d.direction)), 1, 2 * in);
             for (const PointLight& pl : scene.point_lights) {
                 const Vec3d v = pl.position - p;
                 const double r = norm(v);
@@ -873,7 +873,8 @@ std::string summation_study(const Scene& s, const std::vector<Lane>& lanes) {
         if (h.object < 0) continue;
         std::vector<double> terms;
         for (const DirectionalLight& d : s.directional_lights)
-            if (dot(h.normal, d.direction) > 0) terms.push_back(fl(d.color.x * d.ls) * fl(dot(h.normal, d.direction)));
+            if (const double ndl = dot(h.normal, unit_direction(d.direction)); ndl > 0)
+                terms.push_back(fl(d.color.x * d.ls) * fl(ndl));
         for (Attenuation att : {Attenuation::none, Attenuation::inverse_square})
             for (const PointLight& p : s.point_lights) {
                 if (p.attenuation != att) continue;

@@ -1,10 +1,16 @@
 // octray/scene.hpp — scene authoring types (array-of-structures, double).
 //
 // This is what the JSON loader produces and what an engine may build by hand.
-// Invariants (the loader checks them; `validate` re-checks a hand-built scene):
-// directions are unit length, radii and extents are positive, material indices
-// are in range, every number is finite (see validate()). Field meanings follow DESIGN.md and
-// the seed (../shared/seed/lights-and-materials.md, eq. 1, 3, 6, 7, 8).
+// Invariants (validate() holds the rules; the loader and compile() apply it):
+// radii and extents are positive, material indices are in range, every number
+// is finite (see validate()). Field meanings follow DESIGN.md and the seed
+// (../shared/seed/lights-and-materials.md, eq. 1, 3, 6, 7, 8).
+//
+// Directions (DirectionalLight::direction, Plane::normal, Disk::normal,
+// Camera::up) need not be unit length: any finite, non-zero vector is valid,
+// and every path (reference, scalar, simd) uses it as unit_direction(v), the
+// one normalization below. So a hand-built scene with direction {1, 2, 1}
+// renders the same on every path; the JSON loader stores them normalized.
 #pragma once
 
 #include <octray/constants.hpp>
@@ -27,7 +33,7 @@ struct Camera {
     CameraType type = CameraType::pinhole;
     Vec3d eye{0, 0, 5};
     Vec3d look_at{0, 0, 0};
-    Vec3d up{0, 1, 0};      // unit length, not parallel to eye - look_at
+    Vec3d up{0, 1, 0};      // any length (see above), not parallel to eye - look_at
     double fov_y = 45.0;    // degrees, pinhole only, in (0, 180)
     double height_world = 2.0;  // orthographic only, > 0
     int width = 320;
@@ -52,8 +58,8 @@ enum class Attenuation { none, inverse_square };
 inline constexpr const char* kAttenuationNames[] = {"none", "inverse_square"};
 inline constexpr const char* attenuation_name(Attenuation a) { return kAttenuationNames[static_cast<int>(a)]; }
 
-// Directional light, seed eq. 3. `direction` is unit and points from the
-// surface toward the light (the seed's l).
+// Directional light, seed eq. 3. `direction` points from the surface toward
+// the light (the seed's l is unit_direction(direction)).
 struct DirectionalLight {
     Vec3d direction{0, 1, 0};
     Vec3d color{1, 1, 1};
@@ -71,7 +77,7 @@ struct PointLight {
 };
 
 struct Sphere { Vec3d center; double radius = 1; };
-struct Plane { Vec3d point; Vec3d normal{0, 1, 0}; };           // normal unit
+struct Plane { Vec3d point; Vec3d normal{0, 1, 0}; };           // normal: any length
 struct Disk { Vec3d center; Vec3d normal{0, 1, 0}; double radius = 1; };
 struct Rectangle { Vec3d corner; Vec3d a{1, 0, 0}; Vec3d b{0, 1, 0}; };  // corner + s*a + t*b, s,t in [0,1]
 struct Box { Vec3d min; Vec3d max{1, 1, 1}; };                   // axis-aligned, min < max
@@ -111,6 +117,14 @@ struct Scene {
     std::vector<Object> objects;  // primitive index = position here
     RenderSettings render;
 };
+
+// The unit vector along a scene direction, v / |v|: the one normalization
+// every path applies to DirectionalLight::direction, Plane::normal,
+// Disk::normal and Camera::up. v is first scaled by a power of two (exact), so
+// components near 1e300 or 1e-300 neither overflow nor underflow; elsewhere the
+// result is bit for bit v / sqrt(v.v). NaN components for a zero or
+// non-finite v, which validate() rejects.
+Vec3d unit_direction(const Vec3d& v);
 
 // Checks the invariants above on a scene built in code (the JSON loader checks
 // them with file positions). Throws std::invalid_argument naming the first
