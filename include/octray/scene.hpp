@@ -16,7 +16,9 @@
 #include <octray/constants.hpp>
 #include <octray/vec3.hpp>
 
+#include <cstddef>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
@@ -103,7 +105,7 @@ inline constexpr const char* tonemap_name(ToneMap t) { return kToneMapNames[stat
 
 struct RenderSettings {
     ToneMap tonemap = ToneMap::max_to_one;
-    Vec3d clamp_color{1, 0, 0};
+    Vec3d clamp_color{1, 0, 0};  // a display colour: components in [0, 1]
     double gamma = 1.0;  // > 0; display colour is c^(1/gamma)
 };
 
@@ -126,10 +128,27 @@ struct Scene {
 // non-finite v, which validate() rejects.
 Vec3d unit_direction(const Vec3d& v);
 
-// Checks the invariants above on a scene built in code (the JSON loader checks
-// them with file positions). Throws std::invalid_argument naming the first
-// offending field, e.g. "objects[3].material: index 7, but there are 2 materials".
-// compile() calls it, so the kernels only ever see valid scenes.
+// What validate() throws: what() is "PATH: PROBLEM", e.g.
+// "objects[3].radius: must be > 0, got -1"; path() and problem() are the two
+// parts (the JSON loader reports problem() at the file's path for path()).
+class InvalidScene : public std::invalid_argument {
+public:
+    InvalidScene(const std::string& path, const std::string& problem);
+    std::string path() const;
+    std::string problem() const;
+
+private:
+    std::size_t path_size_;
+};
+
+// The one set of scene rules: checks the invariants above, on a scene built in
+// code and on every scene the JSON loader reads (it judges value ranges by
+// this function alone). Throws InvalidScene (a std::invalid_argument) naming
+// the first offending field, e.g. "objects[3].material: index 7, but there are
+// 2 materials". compile() calls it, so the kernels only ever see valid scenes.
+// Degenerate means, scale-free: a camera `up` within a sine of 1e-6 of the
+// view direction; rectangle edges a, b with |a x b| < 1e-9 |a||b|; a triangle
+// with |e1 x e2| < 1e-9 times its longest edge squared.
 void validate(const Scene& scene);
 
 }  // namespace octray
