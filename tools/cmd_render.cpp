@@ -8,8 +8,6 @@
 #include <octray/kernels.hpp>
 #include <octray/reference.hpp>
 
-#include <omp.h>
-
 #include <chrono>
 #include <cstdio>
 
@@ -17,7 +15,7 @@ namespace octray::cli {
 
 int run_render(const RenderArgs& args) {
     const Scene scene = load_scene(args.scene);
-    const int threads = args.threads > 0 ? args.threads : omp_get_max_threads();
+    const int threads = thread_count(args.threads);
     const bool use_reference = args.path == kReferencePathName;
     const auto start = std::chrono::steady_clock::now();
     ImageRGB8 display;

@@ -6,6 +6,8 @@
 
 #include <octray/kernels.hpp>
 
+#include <omp.h>
+
 #include <string>
 
 namespace octray::cli {
@@ -13,6 +15,10 @@ namespace octray::cli {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;
 inline constexpr int kExitBadInput = 2;
+
+// `--threads N`: N render threads; 0 means all cores (OpenMP's count, which
+// OMP_NUM_THREADS may set), as the help of every subcommand says.
+inline int thread_count(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
 
 // `--path`: a kernel Path by its path_name() (kernels.hpp), or the reference renderer.
 inline constexpr const char* kReferencePathName = "reference";

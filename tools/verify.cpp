@@ -5,6 +5,8 @@
 
 #include <octray/reference.hpp>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -93,8 +95,10 @@ PacketRender render_packet(const Kernel& kernel, const PacketScene& scene, int t
     out.primitive.assign(std::size_t(w) * std::size_t(h), -1);
     const auto start = std::chrono::steady_clock::now();
     std::uint64_t rays = 0, masked = 0;
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) reduction(+ : rays, masked)
+    int team = 1;
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) reduction(+ : rays, masked) reduction(max : team)
     for (int y = 0; y < h; ++y) {
+        team = std::max(team, omp_get_num_threads());
         RenderCounters c;
         render_rows(kernel, scene, y, y + 1, out.radiance, display, &c, out.primitive.data());
         if (progress) progress->tick();
@@ -104,6 +108,7 @@ PacketRender render_packet(const Kernel& kernel, const PacketScene& scene, int t
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.counters.rays = rays;
     out.counters.masked = masked;
+    out.threads = team;
     return out;
 }
 
