@@ -123,9 +123,9 @@ struct Scene {
 // The unit vector along a scene direction, v / |v|: the one normalization
 // every path applies to DirectionalLight::direction, Plane::normal,
 // Disk::normal and Camera::up. v is first scaled by a power of two (exact), so
-// components near 1e300 or 1e-300 neither overflow nor underflow; elsewhere the
-// result is bit for bit v / sqrt(v.v). NaN components for a zero or
-// non-finite v, which validate() rejects.
+// components near 1e300 or 1e-300 neither overflow nor underflow; where v.v
+// does neither anyway, the result is bit for bit v / sqrt(v.v). NaN
+// components for a zero or non-finite v, which validate() rejects.
 Vec3d unit_direction(const Vec3d& v);
 
 // What validate() throws: what() is "PATH: PROBLEM", e.g.
@@ -148,7 +148,7 @@ private:
 // 2 materials". compile() calls it, so the kernels only ever see valid scenes.
 // Degenerate means, scale-free: a camera `up` within a sine of 1e-6 of the
 // view direction; rectangle edges a, b with |a x b| < 1e-9 |a||b|; a triangle
-// with |e1 x e2| < 1e-9 times its longest edge squared.
+// with |(v1 - v0) x (v2 - v0)| < 1e-9 times its longest edge squared.
 void validate(const Scene& scene);
 
 }  // namespace octray
