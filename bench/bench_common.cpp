@@ -101,31 +101,38 @@ double intersect_flops_per_ray(const PacketScene& scene) {
 }
 
 // ---- shade (shade_lanes) ------------------------------------------------------
+// Counted from shade_lanes, shadowed, shadow_ray and finish_ray as of 1483718.
 // p = fma(d, t, o) x3                                                   =  6
 // directional light: ndl = fdot(n, l) 5; accumulate 3 fma 6              = 11
 // point light: v = pos - p 3; r2 = fdot 5; rsqrt 2; fdot(n,v) * inv_r 6;
 //              accumulate 6                                              = 22
-// inverse-square point light: as point + inv_r*inv_r 1 + weight*.. 1     = 24
+//   (the rescaling for r^2 outside [2^-100, 2^100] is a rare branch: not counted)
+// inverse-square point light: as point + the weight
+//              inv_dist = inv_r * scale 1, inv_dist * inv_dist 1, weight * .. 1  = 25
 // final: hadamard(diffuse, E) 3; + ambient 3 (when the scene has ambient)
 // shadows: reach = t * max|d| 1 (once per ray); a light with shadows adds its
-// shadow ray: eps = max(scale*1e-4, (scale + reach)*k) 3, o = p + n*eps 6,
-// fdot(l,l) 5, rcp 1, -inv_dd and exit_scale 2, inv_d 3 = 20 (point: + v*inv_r 3,
-// r2*inv_r 1 = 24),
-// and any_hit's tests of every primitive (counted in full: an upper bound,
-// any_hit stops early once all lanes are blocked).
+// shadow ray (shadow_ray): eps = max(scale*1e-4, (scale + reach)*k) 3,
+// o = p + n*eps 6, dd = fdot(l,l) 5, and finish_ray's 1/dd 1, -inv_dd 1,
+// exit_scale 1, len_d = sqrt(dd) 1                                       = 18
+// (point: its arguments v * inv_r 3 and (r2 * inv_r) * unscale 2         = 23),
+// the box and triangle setups of intersect (+3, +5: made inside any_hit for
+// packets whose walk reaches a leaf with the type, counted as there), and any_hit's tests of every
+// primitive (counted in full: an upper bound, any_hit stops early once all
+// lanes are blocked).
 double shade_flops_per_ray(const PacketScene& scene) {
     const SceneData& s = scene.data();
     double f = 6 + 3;
     if (s.features.has(kAmbient)) f += 3;
-    f += 11.0 * s.directional_count + 22.0 * s.point_count + 24.0 * s.point_attenuated_count;
+    f += 11.0 * s.directional_count + 22.0 * s.point_count + 25.0 * s.point_attenuated_count;
     if (s.features.has(kShadows)) {
         f += 1;
+        const double walk = (s.count[4] > 0 ? kBoxSetup : 0) + (s.count[5] > 0 ? kTriangleSetup : 0) + all_tests(s);
         for (int k = 0; k < s.directional_count; ++k)
-            if (s.directional.shadows[std::size_t(k)] != 0.0f) f += 20 + all_tests(s);
+            if (s.directional.shadows[std::size_t(k)] != 0.0f) f += 18 + walk;
         for (int k = 0; k < s.point_count; ++k)
-            if (s.point.shadows[std::size_t(k)] != 0.0f) f += 24 + all_tests(s);
+            if (s.point.shadows[std::size_t(k)] != 0.0f) f += 23 + walk;
         for (int k = 0; k < s.point_attenuated_count; ++k)
-            if (s.point_attenuated.shadows[std::size_t(k)] != 0.0f) f += 24 + all_tests(s);
+            if (s.point_attenuated.shadows[std::size_t(k)] != 0.0f) f += 23 + walk;
     }
     return f;
 }
@@ -154,8 +161,7 @@ double camera_flops_per_ray(bool orthographic) { return orthographic ? 20 : 27; 
 // =============================================================================
 
 const char* layout_name(Layout l) {
-    constexpr const char* names[] = {"sphere", "plane", "disk", "rectangle", "box", "triangle", "mixed"};
-    return names[int(l)];
+    return l == Layout::mixed ? "mixed" : primitive_type_name(PrimitiveType(int(l)));  // the first six are the types
 }
 
 namespace {
@@ -185,7 +191,7 @@ Scene grid_scene(Layout layout, int n, bool floor, int width, int height) {
     constexpr double kCell = 2.5;
     const double extent = std::max(cols, rows) * kCell / 2;
     const double dist = 1.5 + 2.8 * extent;
-    const double down = 40.0 * 3.14159265358979323846 / 180.0;
+    const double down = 40.0 * kPi / 180.0;
     s.camera.type = CameraType::pinhole;
     s.camera.look_at = {0, 0, 0};
     s.camera.eye = {0, dist * std::sin(down), dist * std::cos(down)};

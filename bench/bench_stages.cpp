@@ -309,8 +309,9 @@ void register_all() {
                                           (lanes == 8 ? "/8lanes" : "/1lane")).c_str(),
                                          [op, lanes](benchmark::State& st) { bm_divider(st, op, lanes); });
     for (Path p : kPaths) {
-        benchmark::RegisterBenchmark(("camera/pinhole" + path_suffix(p)).c_str(), [p](benchmark::State& st) { bm_camera(st, false, p); });
-        benchmark::RegisterBenchmark(("camera/orthographic" + path_suffix(p)).c_str(), [p](benchmark::State& st) { bm_camera(st, true, p); });
+        for (CameraType c : {CameraType::pinhole, CameraType::orthographic})
+            benchmark::RegisterBenchmark((std::string("camera/") + camera_type_name(c) + path_suffix(p)).c_str(),
+                                         [p, c](benchmark::State& st) { bm_camera(st, c == CameraType::orthographic, p); });
     }
     for (Layout l : {Layout::sphere, Layout::plane, Layout::disk, Layout::rectangle, Layout::box, Layout::triangle})
         for (int n : {1, 16, 256})
@@ -344,11 +345,11 @@ void register_all() {
             benchmark::RegisterBenchmark(("shade/" + spec.name + path_suffix(p)).c_str(),
                                          [spec, p](benchmark::State& st) { bm_shade(st, spec, p); });
 
-    struct Mode { const char* name; ToneMap mode; float gamma; };
-    for (const Mode& m : {Mode{"max_to_one", ToneMap::max_to_one, 1}, Mode{"clamp_to_color", ToneMap::clamp_to_color, 1},
-                          Mode{"saturate", ToneMap::saturate, 1}, Mode{"max_to_one_gamma2.2", ToneMap::max_to_one, 2.2f}})
+    struct Mode { ToneMap mode; float gamma; const char* suffix; };
+    for (const Mode& m : {Mode{ToneMap::max_to_one, 1, ""}, Mode{ToneMap::clamp_to_color, 1, ""},
+                          Mode{ToneMap::saturate, 1, ""}, Mode{ToneMap::max_to_one, 2.2f, "_gamma2.2"}})
         for (Path p : kPaths)
-            benchmark::RegisterBenchmark((std::string("tonemap/") + m.name + path_suffix(p)).c_str(),
+            benchmark::RegisterBenchmark((std::string("tonemap/") + tonemap_name(m.mode) + m.suffix + path_suffix(p)).c_str(),
                                          [m, p](benchmark::State& st) { bm_tonemap(st, m.mode, m.gamma, p); });
 
     for (Path p : kPaths) {

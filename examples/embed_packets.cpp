@@ -24,7 +24,6 @@ void check_rel(double got, double want, double rel, const char* what, int lane) 
     check(std::fabs(got - want) <= rel * std::fabs(want), what, lane, got, want);
 }
 
-constexpr double kPi = 3.14159265358979323846;
 
 // >>> docs/API.md quotes from here: scene
 // The engine's scene, built in code: one clay sphere, ambient light, a
@@ -65,7 +64,7 @@ void set_ray(octray::RayPacket8& rays, int i, octray::Vec3f o, octray::Vec3f d, 
 octray::Vec3d eq8(double e) {
     const octray::Vec3d cd{1.0, 0.5, 0.25};
     const double ka = 0.25, kd = 0.65, ambient_ls = 0.2;
-    return cd * (ka * ambient_ls) + cd * (kd / kPi * e);
+    return cd * (ka * ambient_ls) + cd * (kd / octray::kPi * e);
 }
 
 // max_to_one: divide by the largest component when it exceeds 1.

@@ -21,15 +21,14 @@ Features features_of(const Scene& scene) {
 }
 
 std::string feature_string(unsigned bits) {
-    static constexpr const char* names[] = {"sphere",  "plane",       "disk",  "rectangle",
-                                            "box",     "triangle",    "ambient", "directional",
-                                            "point",   "point_attenuated", "shadows"};
+    // Bits 0-5 are the primitive types (scene.hpp names them), then the lights' features.
+    static constexpr const char* light_names[] = {"ambient", "directional", "point", "point_attenuated", "shadows"};
     std::string prims, lights;
     for (unsigned i = 0; i < 11; ++i) {
         if ((bits & (1u << i)) == 0) continue;
-        std::string& s = i < 6 ? prims : lights;
+        std::string& s = i < kPrimitiveTypeCount ? prims : lights;
         if (!s.empty()) s += '+';
-        s += names[i];
+        s += i < kPrimitiveTypeCount ? primitive_type_name(PrimitiveType(i)) : light_names[i - kPrimitiveTypeCount];
     }
     return (prims.empty() ? "no primitives" : prims) + " | " + (lights.empty() ? "no lights" : lights);
 }

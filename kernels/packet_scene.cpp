@@ -1,5 +1,6 @@
 // kernels/packet_scene.cpp — Scene (AoS, double) -> PacketScene (SoA, float).
 #include "scene_data.hpp"
+#include <octray/reference.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -12,9 +13,8 @@
 namespace octray {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
-Vec3d normalized(const Vec3d& v) { return v * (1.0 / std::sqrt(dot(v, v))); }
+Vec3d normalized(const Vec3d& v) { return unit_direction(v); }  // the reference's normalization (scene.hpp)
 
 void push(Floats& a, double v) { a.push_back(float(v)); }
 void push3(Floats& x, Floats& y, Floats& z, const Vec3d& v) { push(x, v.x), push(y, v.y), push(z, v.z); }
@@ -216,8 +216,8 @@ PacketScene compile(const Scene& scene) {
     }
 
     for (const Material& m : scene.materials) {
-        const Vec3d amb = scene.ambient ? hadamard(m.cd * m.ka, scene.ambient->color * scene.ambient->ls) : Vec3d{};
-        const Vec3d dif = m.cd * (m.kd / kPi);
+        const Vec3d amb = reference::ambient_term(scene, m);  // the reference's eq. 7 and 8 terms, in double
+        const Vec3d dif = reference::lambertian_brdf(m);
         push3(s.ambient_r, s.ambient_g, s.ambient_b, amb);
         push3(s.diffuse_r, s.diffuse_g, s.diffuse_b, dif);
     }

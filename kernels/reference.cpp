@@ -14,7 +14,6 @@ namespace octray::reference {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double length(const Vec3d& a) { return std::sqrt(length_squared(a)); }
@@ -212,8 +211,13 @@ bool occluded(const Scene& scene, const Ray& ray, double tmax) {
 
 // Lambertian term of one light, seed eq. 8: (kd cd / pi) * (ls cl) * (n.l).
 Vec3d lambert(const Material& m, const Vec3d& light_color, double ls, double n_dot_l) {
-    return hadamard(m.cd * (m.kd / kPi), light_color * ls) * n_dot_l;
+    return hadamard(lambertian_brdf(m), light_color * ls) * n_dot_l;
 }
+
+// Shadow rays start just off the surface on the side the facing normal points
+// to (the lit side: n faces the viewer and n.l > 0), so they do not re-hit the
+// surface they leave.
+Vec3d shadow_origin(const Hit& hit) { return hit.point + hit.normal * (1e-9 * (1.0 + length(hit.point))); }
 
 }  // namespace
 
@@ -252,7 +256,7 @@ Vec3d geometric_normal(const Shape& shape, const Vec3d& p) {
         [&](const auto& s) -> Vec3d {
             using S = std::decay_t<decltype(s)>;
             if constexpr (std::is_same_v<S, Sphere>) return normalize(p - s.center);
-            else if constexpr (std::is_same_v<S, Plane> || std::is_same_v<S, Disk>) return normalize(s.normal);
+            else if constexpr (std::is_same_v<S, Plane> || std::is_same_v<S, Disk>) return unit_direction(s.normal);
             else if constexpr (std::is_same_v<S, Rectangle>) return normalize(cross(s.a, s.b));
             else if constexpr (std::is_same_v<S, Box>) return box_normal_at(s, p);
             else return normalize(cross(s.v1 - s.v0, s.v2 - s.v0));
@@ -283,6 +287,22 @@ Hit trace(const Scene& scene, const Ray& ray, double tmin, double tmax) {
     return hit;
 }
 
+Vec3d ambient_term(const Scene& scene, const Material& m) {
+    return scene.ambient ? hadamard(m.cd * m.ka, scene.ambient->color * scene.ambient->ls) : Vec3d{};
+}
+
+Vec3d lambertian_brdf(const Material& m) { return m.cd * (m.kd / kPi); }
+
+bool shadowed(const Scene& scene, const Hit& hit, const DirectionalLight& light) {
+    return light.shadows && occluded(scene, {shadow_origin(hit), unit_direction(light.direction)}, kInf);
+}
+
+bool shadowed(const Scene& scene, const Hit& hit, const PointLight& light) {
+    if (!light.shadows) return false;
+    const Vec3d o = shadow_origin(hit), from_origin = light.position - o;
+    return occluded(scene, {o, normalize(from_origin)}, length(from_origin));
+}
+
 // Matte::shade, seed eq. 7 (ambient) + eq. 8 (sum over lights with n.l > 0);
 // point lights per eq. 6, with 1/r^2 only under inverse_square. A light with
 // shadows on is skipped when a shadow ray from p meets any object before it.
@@ -291,16 +311,11 @@ Vec3d shade(const Scene& scene, const Ray& /*ray*/, const Hit& hit) {
     const Material& m = scene.materials.at(std::size_t(scene.objects[std::size_t(hit.object)].material));
     const Vec3d& p = hit.point;
     const Vec3d& n = hit.normal;
-    // Shadow rays start just off the surface on the lit side (n faces the
-    // viewer and n.l > 0), so they do not re-hit the surface they leave.
-    const Vec3d shadow_origin = p + n * (1e-9 * (1.0 + length(p)));
 
-    Vec3d L;
-    if (scene.ambient) L += hadamard(m.cd * m.ka, scene.ambient->color * scene.ambient->ls);
+    Vec3d L = ambient_term(scene, m);
     for (const DirectionalLight& light : scene.directional_lights) {
-        const double n_dot_l = dot(n, light.direction);
-        if (!(n_dot_l > 0.0)) continue;
-        if (light.shadows && occluded(scene, {shadow_origin, light.direction}, kInf)) continue;
+        const double n_dot_l = dot(n, unit_direction(light.direction));  // scene.hpp: any length, used as unit
+        if (!(n_dot_l > 0.0) || shadowed(scene, hit, light)) continue;
         L += lambert(m, light.color, light.ls, n_dot_l);
     }
     for (const PointLight& light : scene.point_lights) {
@@ -308,11 +323,7 @@ Vec3d shade(const Scene& scene, const Ray& /*ray*/, const Hit& hit) {
         const double r = length(to_light);
         const Vec3d l = normalize(to_light);  // NaN when the light sits at p: skipped below
         const double n_dot_l = dot(n, l);
-        if (!(n_dot_l > 0.0)) continue;
-        if (light.shadows) {
-            const Vec3d from_origin = light.position - shadow_origin;
-            if (occluded(scene, {shadow_origin, normalize(from_origin)}, length(from_origin))) continue;
-        }
+        if (!(n_dot_l > 0.0) || shadowed(scene, hit, light)) continue;
         const double falloff = light.attenuation == Attenuation::inverse_square ? 1.0 / (r * r) : 1.0;
         L += lambert(m, light.color, light.ls * falloff, n_dot_l);
     }

@@ -1,59 +1,172 @@
-// kernels/validate.cpp — the authoring-scene invariants, checked for scenes
-// built in code (the JSON loader checks the same rules with file positions).
+// kernels/validate.cpp — the one set of authoring-scene rules (scene.hpp).
+//
+// Scenes built in code and scenes read from JSON are judged here alike: the
+// loader (tools/scene_loader.cpp) checks only the JSON's shape and reports
+// these messages at the file's JSON path. Messages name the Scene path
+// ("point_lights[0].ls") and say what is wrong and what was found.
 #include <octray/scene.hpp>
 
+#include <algorithm>
 #include <cmath>
-#include <stdexcept>
-#include <string>
+#include <cstdio>
+#include <cstdlib>
 #include <type_traits>
 
 namespace octray {
 namespace {
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) { throw std::invalid_argument(path + ": " + what); }
+// Relative tolerances for "degenerate": sines of angles this small make the
+// camera basis, a rectangle's dual basis or a triangle numerically meaningless.
+constexpr double kParallelSine = 1e-6;
+constexpr double kDegenerateSine = 1e-9;
+constexpr int kMaxImageSize = 16384;
+
+// Shortest decimal that reads back as the same double, so "got 0.1" is not
+// "got 0.100000" or "got 0.10000000000000001".
+std::string format_number(double d) {
+    if (std::isinf(d)) return d > 0 ? "inf" : "-inf";
+    if (std::isnan(d)) return "nan";
+    char buf[40];
+    if (d == std::floor(d) && std::fabs(d) < 1e15) {  // integers as such: "180", not "1.8e+02"
+        std::snprintf(buf, sizeof buf, "%.0f", d);
+        return buf;
+    }
+    for (int precision = 1; precision <= 17; ++precision) {
+        std::snprintf(buf, sizeof buf, "%.*g", precision, d);
+        if (std::strtod(buf, nullptr) == d) break;
+    }
+    return buf;
+}
+
+std::string element(const std::string& path, int i) { return path + "[" + std::to_string(i) + "]"; }
+double component(const Vec3d& v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; }
+double length(const Vec3d& v) { return std::sqrt(dot(v, v)); }
+bool is_zero(const Vec3d& v) { return v.x == 0 && v.y == 0 && v.z == 0; }
+bool is_finite(const Vec3d& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) { throw InvalidScene(path, what); }
 
 void finite(const std::string& path, double v) {
-    if (!std::isfinite(v)) fail(path, "must be finite, got " + std::to_string(v));
+    if (!std::isfinite(v)) fail(path, "must be finite, got " + format_number(v));
 }
 void finite(const std::string& path, const Vec3d& v) {
-    finite(path + "[0]", v.x), finite(path + "[1]", v.y), finite(path + "[2]", v.z);
+    for (int k = 0; k < 3; ++k) finite(element(path, k), component(v, k));
 }
 void non_negative(const std::string& path, double v) {
     finite(path, v);
-    if (v < 0) fail(path, "must be >= 0, got " + std::to_string(v));
-}
-void colour(const std::string& path, const Vec3d& c) {
-    non_negative(path + "[0]", c.x), non_negative(path + "[1]", c.y), non_negative(path + "[2]", c.z);
+    if (v < 0) fail(path, "must be >= 0, got " + format_number(v));
 }
 void positive(const std::string& path, double v) {
     finite(path, v);
-    if (!(v > 0)) fail(path, "must be > 0, got " + std::to_string(v));
+    if (!(v > 0)) fail(path, "must be > 0, got " + format_number(v));
 }
+// HDR colours are unbounded above; a display colour (max = 1) is not.
+void colour(const std::string& path, const Vec3d& c, double max = INFINITY) {
+    for (int k = 0; k < 3; ++k) {
+        const double x = component(c, k);
+        finite(element(path, k), x);
+        if (x < 0) fail(element(path, k), "colour components must be >= 0, got " + format_number(x));
+        if (x > max)
+            fail(element(path, k), "colour components must be <= " + format_number(max) + ", got " + format_number(x));
+    }
+}
+// Any finite, non-zero vector: every path uses unit_direction() of it.
 void direction(const std::string& path, const Vec3d& d) {
     finite(path, d);
-    if (!(length_squared(d) > 0) || !std::isfinite(length_squared(d))) fail(path, "must be a non-zero, finite direction");
+    if (is_zero(d)) fail(path, "must not be zero-length");
 }
-// |a x b| small against |a||b|: the two edges are (nearly) parallel.
-void spans_area(const std::string& path, const Vec3d& a, const Vec3d& b) {
-    const double area2 = length_squared(cross(a, b)), scale2 = length_squared(a) * length_squared(b);
-    if (!(area2 > 1e-24 * scale2)) fail(path, "is degenerate (zero area)");
+void image_size(const std::string& path, int n) {
+    if (n < 1 || n > kMaxImageSize)
+        fail(path, "must be in [1, " + std::to_string(kMaxImageSize) + "], got " + std::to_string(n));
+}
+
+void camera(const Camera& c) {
+    finite("camera.eye", c.eye), finite("camera.look_at", c.look_at);
+    direction("camera.up", c.up);
+    if (c.type == CameraType::pinhole && !(c.fov_y > 0 && c.fov_y < 180))
+        fail("camera.fov_y", "must be in (0, 180) degrees, got " + format_number(c.fov_y));
+    if (c.type == CameraType::orthographic) positive("camera.height_world", c.height_world);
+    image_size("camera.width", c.width), image_size("camera.height", c.height);
+    const Vec3d view = c.eye - c.look_at;
+    if (is_zero(view)) fail("camera.look_at", "must differ from eye");
+    if (!is_finite(view)) fail("camera.look_at", "eye - look_at overflows (coordinates too large)");
+    if (length(cross(unit_direction(c.up), unit_direction(view))) < kParallelSine)
+        fail("camera.up", "is parallel to the view direction (eye - look_at)");
+}
+
+void rectangle(const std::string& p, const Rectangle& r) {
+    finite(p + ".corner", r.corner);
+    direction(p + ".a", r.a), direction(p + ".b", r.b);
+    if (length(cross(unit_direction(r.a), unit_direction(r.b))) < kDegenerateSine)
+        fail(p, "is degenerate: a and b are parallel (|a x b| ~ 0 relative to |a||b|)");
+}
+
+void box(const std::string& p, const Box& b) {
+    finite(p + ".min", b.min), finite(p + ".max", b.max);
+    for (int k = 0; k < 3; ++k) {
+        const double lo = component(b.min, k), hi = component(b.max, k);
+        if (!(lo < hi)) {
+            const std::string a(1, "xyz"[k]);
+            fail(p, "is degenerate: min." + a + " = " + format_number(lo) + " is not < max." + a + " = " +
+                        format_number(hi));
+        }
+    }
+}
+
+// Zero area relative to the longest edge: collinear or coincident vertices.
+void triangle(const std::string& p, const Triangle& t) {
+    const std::string vertices = p + ".vertices";
+    finite(element(vertices, 0), t.v0), finite(element(vertices, 1), t.v1), finite(element(vertices, 2), t.v2);
+    Vec3d e[3] = {t.v1 - t.v0, t.v2 - t.v0, t.v2 - t.v1};
+    double m = 0;
+    for (const Vec3d& v : e) m = std::max({m, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+    if (!std::isfinite(m)) fail(p, "is degenerate: vertex differences overflow (coordinates too large)");
+    if (m > 0) {
+        for (Vec3d& v : e) v = v * (1 / m);  // scale-free from here on
+        const double longest2 = std::max({dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2])});
+        if (length(cross(e[0], e[1])) >= kDegenerateSine * longest2) return;
+    }
+    fail(p, "is degenerate: zero area relative to its edge lengths (collinear or coincident vertices)");
+}
+
+void shape(const std::string& p, const Shape& shape) {
+    std::visit(
+        [&](const auto& s) {
+            using S = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<S, Sphere>) {
+                finite(p + ".center", s.center), positive(p + ".radius", s.radius);
+            } else if constexpr (std::is_same_v<S, Plane>) {
+                finite(p + ".point", s.point), direction(p + ".normal", s.normal);
+            } else if constexpr (std::is_same_v<S, Disk>) {
+                finite(p + ".center", s.center), direction(p + ".normal", s.normal), positive(p + ".radius", s.radius);
+            } else if constexpr (std::is_same_v<S, Rectangle>) {
+                rectangle(p, s);
+            } else if constexpr (std::is_same_v<S, Box>) {
+                box(p, s);
+            } else {
+                triangle(p, s);
+            }
+        },
+        shape);
 }
 
 }  // namespace
 
-void validate(const Scene& scene) {
-    const Camera& c = scene.camera;
-    finite("camera.eye", c.eye), finite("camera.look_at", c.look_at);
-    direction("camera.up", c.up);
-    const Vec3d view = c.eye - c.look_at;
-    direction("camera.look_at (eye - look_at)", view);
-    spans_area("camera.up (parallel to the view direction)", c.up, view);
-    if (c.type == CameraType::pinhole && !(c.fov_y > 0 && c.fov_y < 180))
-        fail("camera.fov_y", "must be in (0, 180) degrees, got " + std::to_string(c.fov_y));
-    if (c.type == CameraType::orthographic) positive("camera.height_world", c.height_world);
-    if (c.width < 1 || c.width > 16384) fail("camera.width", "must be in [1, 16384], got " + std::to_string(c.width));
-    if (c.height < 1 || c.height > 16384) fail("camera.height", "must be in [1, 16384], got " + std::to_string(c.height));
+InvalidScene::InvalidScene(const std::string& path, const std::string& problem)
+    : std::invalid_argument(path + ": " + problem), path_size_(path.size()) {}
+std::string InvalidScene::path() const { return std::string(what(), path_size_); }
+std::string InvalidScene::problem() const { return std::string(what() + path_size_ + 2); }
 
+Vec3d unit_direction(const Vec3d& v) {
+    // m = 2^e * [1, 2): scaling by 2^-e is exact and brings the largest component to [1, 2).
+    const int e = std::ilogb(std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}));
+    const Vec3d s{std::scalbn(v.x, -e), std::scalbn(v.y, -e), std::scalbn(v.z, -e)};
+    const double len = std::sqrt(dot(s, s));
+    return {s.x / len, s.y / len, s.z / len};
+}
+
+void validate(const Scene& scene) {
+    camera(scene.camera);
     colour("background", scene.background);
     if (scene.ambient) colour("ambient.color", scene.ambient->color), non_negative("ambient.ls", scene.ambient->ls);
     for (std::size_t i = 0; i < scene.directional_lights.size(); ++i) {
@@ -77,33 +190,10 @@ void validate(const Scene& scene) {
         if (o.material < 0 || std::size_t(o.material) >= scene.materials.size())
             fail(p + ".material", "index " + std::to_string(o.material) + ", but there are " +
                                       std::to_string(scene.materials.size()) + " materials");
-        std::visit(
-            [&](const auto& s) {
-                using S = std::decay_t<decltype(s)>;
-                if constexpr (std::is_same_v<S, Sphere>) {
-                    finite(p + ".center", s.center), positive(p + ".radius", s.radius);
-                } else if constexpr (std::is_same_v<S, Plane>) {
-                    finite(p + ".point", s.point), direction(p + ".normal", s.normal);
-                } else if constexpr (std::is_same_v<S, Disk>) {
-                    finite(p + ".center", s.center), direction(p + ".normal", s.normal);
-                    positive(p + ".radius", s.radius);
-                } else if constexpr (std::is_same_v<S, Rectangle>) {
-                    finite(p + ".corner", s.corner), finite(p + ".a", s.a), finite(p + ".b", s.b);
-                    spans_area(p, s.a, s.b);
-                } else if constexpr (std::is_same_v<S, Box>) {
-                    finite(p + ".min", s.min), finite(p + ".max", s.max);
-                    if (!(s.min.x < s.max.x && s.min.y < s.max.y && s.min.z < s.max.z))
-                        fail(p, "is degenerate: min must be < max on every axis");
-                } else {
-                    finite(p + ".vertices[0]", s.v0), finite(p + ".vertices[1]", s.v1), finite(p + ".vertices[2]", s.v2);
-                    spans_area(p, s.v1 - s.v0, s.v2 - s.v0);
-                }
-            },
-            o.shape);
+        shape(p, o.shape);
     }
-    if (!(scene.render.gamma > 0) || !std::isfinite(scene.render.gamma))
-        fail("render.gamma", "must be > 0, got " + std::to_string(scene.render.gamma));
-    colour("render.clamp_color", scene.render.clamp_color);
+    positive("render.gamma", scene.render.gamma);
+    colour("render.clamp_color", scene.render.clamp_color, 1.0);
 }
 
 }  // namespace octray

@@ -3,8 +3,6 @@
 // the ISAs this CPU runs.
 #pragma once
 
-#include "scene_files.hpp"
-
 #include <octray/kernels.hpp>
 #include <octray/reference.hpp>
 #include <octray/scene.hpp>

@@ -1,6 +1,7 @@
 // Run-time dispatch: the ISA unit and the feature variant select_kernel picks.
 #include <doctest/doctest.h>
 
+#include "scene_files.hpp"
 #include "support.hpp"
 
 #include "scene_loader.hpp"

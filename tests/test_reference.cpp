@@ -13,7 +13,6 @@ using namespace octray::reference;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -456,15 +455,21 @@ TEST_CASE("shade: lights add up (eq. 8)") {
     CHECK_VEC(shade_ray(s, kPoleRay), kCd * (0.25 + 0.65 * 3 / kPi));
 }
 
-TEST_CASE("shade: shadows on and off") {
-    // Plane y=-1 (normal +y); view ray straight down at x=2 hits p=(2,-1,0), n=(0,1,0).
-    // A sphere at (0.5,0.5,0), r=0.5 sits on the line from p toward (-1,1,0): the line
-    // x+y=1 passes through its centre. It is not on the view ray (x=2).
+// Plane y=-1 (normal +y); the view ray straight down at x=2 hits p=(2,-1,0), n=(0,1,0).
+// A sphere at (0.5,0.5,0), r=0.5 sits on the line from p toward (-1,1,0): the line
+// x+y=1 passes through its centre. It is not on the view ray (x=2).
+Scene blocker_scene() {
     Scene s;
     s.materials.push_back({"m", 0.25, 0.65, {1, 0.5, 0.25}});
     s.objects.push_back({Plane{{0, -1, 0}, {0, 1, 0}}, 0});
     s.objects.push_back({Sphere{{0.5, 0.5, 0}, 0.5}, 0});
-    const Ray view{{2, 5, 0}, {0, -1, 0}};
+    return s;
+}
+const Ray kBlockerView{{2, 5, 0}, {0, -1, 0}};
+
+TEST_CASE("shade: shadows on and off") {
+    Scene s = blocker_scene();
+    const Ray& view = kBlockerView;
     REQUIRE(trace(s, view).object == 0);
     const double r2 = 1 / std::sqrt(2.0);
     // Directional toward (-1,1,0)/sqrt2: n.l = 1/sqrt2; unshadowed L = 0.65/pi * cd / sqrt2.
@@ -485,6 +490,30 @@ TEST_CASE("shade: shadows on and off") {
     // Point light between p and the sphere, at (1.5,-0.5,0): the sphere is beyond r -> lit.
     s.point_lights[0].position = {1.5, -0.5, 0};
     CHECK_VEC(shade_ray(s, view), kCd * (0.65 / kPi * r2));
+}
+
+TEST_CASE("shade's parts: ambient_term, lambertian_brdf, shadowed") {
+    const Material m{"m", 0.25, 0.65, {1, 0.5, 0.25}};
+    Scene s = blocker_scene();
+    CHECK_VEC(ambient_term(s, m), Vec3d(0, 0, 0));  // no ambient light
+    // ls cl = 2 (1, 0.5, 2) = (2, 1, 4); ka cd * that = 0.25 (2, 0.5, 1) = (0.5, 0.125, 0.25).
+    s.ambient = AmbientLight{{1, 0.5, 2}, 2.0};
+    CHECK_VEC(ambient_term(s, m), Vec3d(0.5, 0.125, 0.25));
+    CHECK_VEC(lambertian_brdf(m), kCd * (0.65 / kPi));
+
+    // The blockers of "shadows on and off", asked directly.
+    const Hit h = trace(s, kBlockerView);
+    REQUIRE(h.object == 0);
+    const double r2 = 1 / std::sqrt(2.0);
+    DirectionalLight toward_sphere{{-r2, r2, 0}, {1, 1, 1}, 1.0, true};
+    CHECK(shadowed(s, h, toward_sphere));
+    toward_sphere.shadows = false;  // a light without shadows is never shadowed
+    CHECK_FALSE(shadowed(s, h, toward_sphere));
+    CHECK_FALSE(shadowed(s, h, DirectionalLight{{0, 1, 0}, {1, 1, 1}, 1.0, true}));  // nothing above p
+    PointLight behind{{-1, 2, 0}, {1, 1, 1}, 1.0, Attenuation::none, true};
+    CHECK(shadowed(s, h, behind));
+    behind.position = {1.5, -0.5, 0};  // between p and the sphere
+    CHECK_FALSE(shadowed(s, h, behind));
 }
 
 TEST_CASE("shade: a shadowed sphere's lit pole does not shadow itself") {
@@ -514,8 +543,11 @@ TEST_CASE("shade: convex objects never shadow themselves (shadow-ray offset)") {
         const Image<double> lit = render(s);
         s.directional_lights[0].shadows = s.point_lights[0].shadows = true;
         const Image<double> shadowed = render(s);
-        int differ = 0;
-        for (std::size_t k = 0; k < lit.rgb.size(); ++k) differ += lit.rgb[k] != shadowed.rgb[k];
+        REQUIRE(lit.rgb.size() == std::size_t(3 * 37 * 29));  // the whole image, not an empty one
+        REQUIRE(shadowed.rgb.size() == lit.rgb.size());
+        int differ = 0, on_object = 0;  // on the object: radiance > 0 (the background is black)
+        for (std::size_t k = 0; k < lit.rgb.size(); ++k) differ += lit.rgb[k] != shadowed.rgb[k], on_object += lit.rgb[k] > 0;
+        CHECK(on_object > 0);
         CHECK(differ == 0);
     }
 }

@@ -2,6 +2,7 @@
 // reference, scene by scene of scenes/.
 #include <doctest/doctest.h>
 
+#include "scene_files.hpp"
 #include "support.hpp"
 
 #include "scene_loader.hpp"

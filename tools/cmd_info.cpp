@@ -13,11 +13,10 @@ int run_info(const InfoArgs& args) {
     const Scene scene = load_scene(args.scene);
     const PacketScene packet = compile(scene);
     const Features& f = packet.features();
-    static constexpr const char* tonemaps[] = {"max_to_one", "clamp_to_color", "saturate"};
     std::printf("scene        %s\n", args.scene.c_str());
     std::printf("image        %dx%d %s\n", scene.camera.width, scene.camera.height,
-                scene.camera.type == CameraType::pinhole ? "pinhole" : "orthographic");
-    std::printf("primitives   sphere %d, plane %d, disk %d, rectangle %d, box %d, triangle %d\n", 
+                camera_type_name(scene.camera.type));
+    std::printf("primitives   sphere %d, plane %d, disk %d, rectangle %d, box %d, triangle %d\n",
                 packet.count(PrimitiveType::sphere), packet.count(PrimitiveType::plane),
                 packet.count(PrimitiveType::disk), packet.count(PrimitiveType::rectangle),
                 packet.count(PrimitiveType::box), packet.count(PrimitiveType::triangle));
@@ -27,7 +26,7 @@ int run_info(const InfoArgs& args) {
                 scene.ambient ? "yes" : "no", scene.directional_lights.size(), scene.point_lights.size() - attenuated,
                 attenuated);
     std::printf("features     %s\n", feature_string(f.bits).c_str());
-    std::printf("tone map     %s, gamma %s\n", tonemaps[int(f.tonemap)], f.gamma ? "yes" : "no (1)");
+    std::printf("tone map     %s, gamma %s\n", tonemap_name(f.tonemap), f.gamma ? "yes" : "no (1)");
     std::printf("simd         %s\n", !simd_supported()   ? "AVX2+FMA not available: scalar fallback"
                                      : avx512_supported() ? "AVX2+FMA and AVX-512 F+VL available: both paths run the AVX-512 units"
                                                           : "AVX2+FMA available");

@@ -8,8 +8,6 @@
 #include <octray/kernels.hpp>
 #include <octray/reference.hpp>
 
-#include <omp.h>
-
 #include <chrono>
 #include <cstdio>
 
@@ -17,19 +15,20 @@ namespace octray::cli {
 
 int run_render(const RenderArgs& args) {
     const Scene scene = load_scene(args.scene);
-    const int threads = args.threads > 0 ? args.threads : omp_get_max_threads();
+    const int threads = thread_count(args.threads);
+    const bool use_reference = args.path == kReferencePathName;
     const auto start = std::chrono::steady_clock::now();
     ImageRGB8 display;
     std::string kernel_name = "reference (scalar double)";
     RenderCounters counters;
     double render_seconds = 0;  // camera rays to display colour, without file I/O
-    if (args.path == "reference") {
+    if (use_reference) {
         const Image<double> hdr = reference::render(scene);
         display = reference::to_display(hdr, scene.render);
         if (!args.hdr.empty()) write_pfm(args.hdr, hdr);
     } else {
         const PacketScene packet = compile(scene);
-        const Kernel kernel = select_kernel(packet, args.path == "simd" ? Path::simd : Path::scalar);
+        const Kernel kernel = select_kernel(packet, args.path == path_name(Path::simd) ? Path::simd : Path::scalar);
         kernel_name = kernel.name();
         Image<float> shown(scene.camera.width, scene.camera.height);
         Progress progress("rendering", scene.camera.height);
@@ -44,8 +43,8 @@ int run_render(const RenderArgs& args) {
     write_png(args.output, display);
     std::printf("wrote %s%s%s (%dx%d, %s, %d thread%s, %.1f ms)\n", args.output.c_str(),
                 args.hdr.empty() ? "" : " and ", args.hdr.c_str(), scene.camera.width, scene.camera.height,
-                kernel_name.c_str(), args.path == "reference" ? 1 : threads,
-                (args.path == "reference" || threads == 1) ? "" : "s", seconds * 1e3);
+                kernel_name.c_str(), use_reference ? 1 : threads,
+                (use_reference || threads == 1) ? "" : "s", seconds * 1e3);
     if (render_seconds > 0)
         std::printf("packet render: %.1f ms, %.2f Mrays/s\n", render_seconds * 1e3,
                     double(counters.rays) / render_seconds * 1e-6);

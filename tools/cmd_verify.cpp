@@ -6,6 +6,7 @@
 
 #include <octray/kernels.hpp>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace octray::cli {
@@ -24,9 +25,11 @@ int run_verify(const VerifyArgs& args) {
     std::printf("%-7s %-6s %8s %10s %10s %10s %10s %8s %10s %11s  %s\n", "path", "isa", "lanes", "max rel", "mean rel",
                 "p99 rel", "max L/S", "max ULP", "mismatched", "silhouette", "verdict");
     bool ok = true;
+    int threads = 0;  // as the renders report it
     for (Path path : {Path::scalar, Path::simd}) {
         const Kernel kernel = select_kernel(packet, path);
-        const PacketRender out = render_packet(kernel, packet, args.threads > 0 ? args.threads : 1);
+        const PacketRender out = render_packet(kernel, packet, thread_count(args.threads));
+        threads = std::max(threads, out.threads);
         const Agreement a = compare(ref, out.radiance, out.primitive);
         const bool pass = a.within(tol);
         ok = ok && pass;
@@ -39,6 +42,7 @@ int run_verify(const VerifyArgs& args) {
                         (unsigned long long)a.shadow_edges);
         if (a.nonfinite) std::printf("        %llu non-finite radiance values\n", (unsigned long long)a.nonfinite);
     }
+    std::printf("packet renders on %d thread%s\n", threads, threads == 1 ? "" : "s");
     return ok ? kExitOk : kExitFailed;
 }
 

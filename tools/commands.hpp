@@ -4,6 +4,10 @@
 // main() turns into one line on stderr.
 #pragma once
 
+#include <octray/kernels.hpp>
+
+#include <omp.h>
+
 #include <string>
 
 namespace octray::cli {
@@ -12,11 +16,18 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;
 inline constexpr int kExitBadInput = 2;
 
+// `--threads N`: N render threads; 0 means all cores (OpenMP's count, which
+// OMP_NUM_THREADS may set), as the help of every subcommand says.
+inline int thread_count(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
+
+// `--path`: a kernel Path by its path_name() (kernels.hpp), or the reference renderer.
+inline constexpr const char* kReferencePathName = "reference";
+
 struct RenderArgs {
     std::string scene;
     std::string output;
     std::string hdr;  // empty: no PFM
-    std::string path = "simd";
+    std::string path = path_name(Path::simd);
     int threads = 0;  // 0: all cores
 };
 int run_render(const RenderArgs& args);

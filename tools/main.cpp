@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
     render_cmd->add_option("-o,--output", render.output, "PNG file to write")->required();
     render_cmd->add_option("--hdr", render.hdr, "also write the HDR radiance as PFM");
     render_cmd->add_option("--path", render.path, "which renderer")
-        ->check(CLI::IsMember({"simd", "scalar", "reference"}))
+        ->check(CLI::IsMember({path_name(octray::Path::simd), path_name(octray::Path::scalar), kReferencePathName}))
         ->capture_default_str();
     render_cmd->add_option("--threads", render.threads, "render threads (0 = all cores, 1 = single thread)")
         ->check(CLI::Range(0, 1024))

@@ -1,14 +1,20 @@
-// tools/scene_loader.cpp — validate scene JSON and build an octray::Scene.
+// tools/scene_loader.cpp — read scene JSON into an octray::Scene.
+//
+// The JSON's shape (types, required and unknown fields, names of types,
+// materials and enums) is checked here; value ranges, finiteness and
+// degenerate geometry are octray::validate()'s (kernels/validate.cpp), the one
+// set of rules a scene built in code meets too. Its message is reported at the
+// JSON path of the offending value.
 #include "scene_loader.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -20,13 +26,14 @@ namespace {
 using Json = nlohmann::ordered_json;
 using Names = std::vector<std::string>;
 
-// Relative tolerances for "degenerate": sines of angles this small make the
-// camera basis, a rectangle or a triangle numerically meaningless.
-constexpr double kParallelSine = 1e-6;
-constexpr double kDegenerateSine = 1e-9;
-
 std::string member(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
 std::string element(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
+
+// An enum's name table (scene.hpp) as a list of allowed strings.
+template <std::size_t N>
+Names names_of(const char* const (&table)[N]) {
+    return Names(table, table + N);
+}
 
 std::string join(const Names& names) {
     std::string out;
@@ -34,23 +41,7 @@ std::string join(const Names& names) {
     return out;
 }
 
-// Shortest decimal that reads back as the same double, so "got 0.1" is not
-// "got 0.10000000000000001".
-std::string format_number(double d) {
-    if (std::isinf(d)) return d > 0 ? "inf" : "-inf";
-    if (std::isnan(d)) return "nan";
-    char buf[40];
-    if (d == std::floor(d) && std::fabs(d) < 1e15) {  // integers as such: "180", not "1.8e+02"
-        std::snprintf(buf, sizeof buf, "%.0f", d);
-        return buf;
-    }
-    for (int precision = 1; precision <= 17; ++precision) {
-        std::snprintf(buf, sizeof buf, "%.*g", precision, d);
-        if (std::strtod(buf, nullptr) == d) break;
-    }
-    return buf;
-}
-
+// A value as the file spells it (numbers by nlohmann's shortest round-trip form).
 std::string describe(const Json& v) {
     switch (v.type()) {
         case Json::value_t::null: return "null";
@@ -58,21 +49,39 @@ std::string describe(const Json& v) {
         case Json::value_t::string: return "a string (\"" + v.get<std::string>() + "\")";
         case Json::value_t::array: return "an array of " + std::to_string(v.size());
         case Json::value_t::object: return "an object";
-        default: return v.is_number() ? format_number(v.get<double>()) : v.type_name();
+        default: return v.is_number() ? v.dump() : v.type_name();
     }
 }
 
-// Scale-free normalization: dividing by the largest component first keeps the
-// squared length from overflowing or underflowing.
-std::optional<Vec3d> normalized(const Vec3d& v) {
-    const double m = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
-    if (!(m > 0) || !std::isfinite(m)) return std::nullopt;
-    const Vec3d s{v.x / m, v.y / m, v.z / m};
-    const double len = std::sqrt(dot(s, s));
-    return Vec3d{s.x / len, s.y / len, s.z / len};
-}
+// Where the Scene's lights and materials stand in the file. validate() names
+// Scene paths; two of them differ from the file's: the file's one `lights`
+// array is split into directional_lights and point_lights, and materials are
+// an object keyed by name, not an array.
+struct SourceMap {
+    std::vector<std::size_t> directional, point;  // the `lights` index of each Scene light
 
-double length(const Vec3d& v) { return std::sqrt(dot(v, v)); }
+    std::string json_path(const std::string& scene_path, const Scene& scene) const {
+        const auto open = scene_path.find('['), close = scene_path.find(']');
+        if (open == std::string::npos || close == std::string::npos || close < open) return scene_path;
+        const std::string head = scene_path.substr(0, open), rest = scene_path.substr(close + 1);
+        const std::size_t i = std::stoul(scene_path.substr(open + 1, close - open - 1));
+        if (head == "materials") return member("materials", scene.materials.at(i).name) + rest;
+        if (head == "directional_lights") return element("lights", directional.at(i)) + rest;
+        if (head == "point_lights") return element("lights", point.at(i)) + rest;
+        return scene_path;  // camera, background, ambient, objects, render: the same in both
+    }
+};
+
+// DESIGN.md: the loader stores directions normalized (every path would
+// normalize them the same way anyway: scene.hpp, unit_direction).
+void normalize_directions(Scene& s) {
+    s.camera.up = unit_direction(s.camera.up);
+    for (DirectionalLight& l : s.directional_lights) l.direction = unit_direction(l.direction);
+    for (Object& o : s.objects) {
+        if (Plane* p = std::get_if<Plane>(&o.shape)) p->normal = unit_direction(p->normal);
+        if (Disk* d = std::get_if<Disk>(&o.shape)) d->normal = unit_direction(d->normal);
+    }
+}
 
 // Reads one document; every check names the file and the JSON path it failed on.
 class Reader {
@@ -109,30 +118,16 @@ public:
         return it == obj.end() ? nullptr : &*it;
     }
 
+    // A JSON number is always finite (the parser refuses literals that overflow).
     double number(const Json& v, const std::string& path) const {
         if (!v.is_number()) fail(path, "must be a number, got " + describe(v));
-        const double d = v.get<double>();
-        if (!std::isfinite(d)) fail(path, "must be finite, got " + format_number(d));
-        return d;
+        return v.get<double>();
     }
 
-    double positive(const Json& v, const std::string& path) const {
+    int integer(const Json& v, const std::string& path) const {
         const double d = number(v, path);
-        if (!(d > 0)) fail(path, "must be > 0, got " + format_number(d));
-        return d;
-    }
-
-    double non_negative(const Json& v, const std::string& path) const {
-        const double d = number(v, path);
-        if (d < 0) fail(path, "must be >= 0, got " + format_number(d));
-        return d;
-    }
-
-    int integer_in(const Json& v, const std::string& path, int lo, int hi) const {
-        const double d = number(v, path);
-        if (d != std::floor(d)) fail(path, "must be an integer, got " + format_number(d));
-        if (d < lo || d > hi)
-            fail(path, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + format_number(d));
+        if (d != std::floor(d)) fail(path, "must be an integer, got " + describe(v));
+        if (d < INT_MIN || d > INT_MAX) fail(path, "must be an integer in the range of int, got " + describe(v));
         return static_cast<int>(d);
     }
 
@@ -159,23 +154,6 @@ public:
         return {number(v[0], element(path, 0)), number(v[1], element(path, 1)), number(v[2], element(path, 2))};
     }
 
-    Vec3d color(const Json& v, const std::string& path, double max = INFINITY) const {
-        const Vec3d c = vec3(v, path);
-        const double comps[3] = {c.x, c.y, c.z};
-        for (std::size_t i = 0; i < 3; ++i) {
-            if (comps[i] < 0) fail(element(path, i), "colour components must be >= 0, got " + format_number(comps[i]));
-            if (comps[i] > max)
-                fail(element(path, i), "colour components must be <= " + format_number(max) + ", got " + format_number(comps[i]));
-        }
-        return c;
-    }
-
-    Vec3d direction(const Json& v, const std::string& path) const {
-        const auto n = normalized(vec3(v, path));
-        if (!n) fail(path, "must not be zero-length");
-        return *n;
-    }
-
     // Top-level value: the type field, checked before anything else so the
     // allowed-field list below can depend on it.
     std::size_t type_of(const Json& obj, const std::string& path, const std::string& kind, const Names& types) const {
@@ -184,9 +162,8 @@ public:
     }
 
     Camera camera(const Json& j, const std::string& path) const {
-        static const Names types{"pinhole", "orthographic"};
         Camera cam;
-        cam.type = static_cast<CameraType>(type_of(j, path, "camera", types));
+        cam.type = static_cast<CameraType>(type_of(j, path, "camera", names_of(kCameraTypeNames)));
         const bool pinhole = cam.type == CameraType::pinhole;
         const Names fields = pinhole ? Names{"type", "eye", "look_at", "up", "fov_y", "width", "height"}
                                      : Names{"type", "eye", "look_at", "up", "height_world", "width", "height"};
@@ -195,24 +172,11 @@ public:
         auto req = [&](const char* key) -> const Json& { return required(j, path, key, what); };
         cam.eye = vec3(req("eye"), member(path, "eye"));
         cam.look_at = vec3(req("look_at"), member(path, "look_at"));
-        cam.up = direction(req("up"), member(path, "up"));
-        if (pinhole) {
-            cam.fov_y = number(req("fov_y"), member(path, "fov_y"));
-            if (!(cam.fov_y > 0 && cam.fov_y < 180))
-                fail(member(path, "fov_y"), "must be in (0, 180) degrees, got " + format_number(cam.fov_y));
-        } else {
-            cam.height_world = positive(req("height_world"), member(path, "height_world"));
-        }
-        constexpr int kMaxSize = 16384;
-        cam.width = integer_in(req("width"), member(path, "width"), 1, kMaxSize);
-        cam.height = integer_in(req("height"), member(path, "height"), 1, kMaxSize);
-
-        const Vec3d view = cam.eye - cam.look_at;
-        if (view.x == 0 && view.y == 0 && view.z == 0) fail(member(path, "look_at"), "must differ from eye");
-        const auto w = normalized(view);
-        if (!w) fail(member(path, "look_at"), "eye - look_at overflows (coordinates too large)");
-        if (length(cross(cam.up, *w)) < kParallelSine)
-            fail(member(path, "up"), "is parallel to the view direction (eye - look_at)");
+        cam.up = vec3(req("up"), member(path, "up"));
+        if (pinhole) cam.fov_y = number(req("fov_y"), member(path, "fov_y"));
+        else cam.height_world = number(req("height_world"), member(path, "height_world"));
+        cam.width = integer(req("width"), member(path, "width"));
+        cam.height = integer(req("height"), member(path, "height"));
         return cam;
     }
 
@@ -226,9 +190,9 @@ public:
             reject_unknown(item.value(), mpath, what, {"type", "ka", "kd", "cd"});
             Material m;
             m.name = item.key();
-            m.ka = non_negative(required(item.value(), mpath, "ka", what), member(mpath, "ka"));
-            m.kd = non_negative(required(item.value(), mpath, "kd", what), member(mpath, "kd"));
-            m.cd = color(required(item.value(), mpath, "cd", what), member(mpath, "cd"));
+            m.ka = number(required(item.value(), mpath, "ka", what), member(mpath, "ka"));
+            m.kd = number(required(item.value(), mpath, "kd", what), member(mpath, "kd"));
+            m.cd = vec3(required(item.value(), mpath, "cd", what), member(mpath, "cd"));
             out.push_back(std::move(m));
         }
         return out;
@@ -238,12 +202,12 @@ public:
         expect_object(j, path);
         reject_unknown(j, path, "ambient", {"color", "ls"});
         AmbientLight a;
-        if (auto* c = optional(j, "color")) a.color = color(*c, member(path, "color"));
-        if (auto* ls = optional(j, "ls")) a.ls = non_negative(*ls, member(path, "ls"));
+        if (auto* c = optional(j, "color")) a.color = vec3(*c, member(path, "color"));
+        if (auto* ls = optional(j, "ls")) a.ls = number(*ls, member(path, "ls"));
         return a;
     }
 
-    void lights(const Json& j, const std::string& path, Scene& scene) const {
+    void lights(const Json& j, const std::string& path, Scene& scene, SourceMap& source) const {
         if (!j.is_array()) fail(path, "must be an array, got " + describe(j));
         for (std::size_t i = 0; i < j.size(); ++i) {
             const Json& l = j[i];
@@ -256,16 +220,17 @@ public:
             Vec3d color_v{1, 1, 1};
             double ls = 1.0;
             bool shadows = false;
-            if (auto* c = optional(l, "color")) color_v = color(*c, member(lpath, "color"));
-            if (auto* v = optional(l, "ls")) ls = non_negative(*v, member(lpath, "ls"));
+            if (auto* c = optional(l, "color")) color_v = vec3(*c, member(lpath, "color"));
+            if (auto* v = optional(l, "ls")) ls = number(*v, member(lpath, "ls"));
             if (auto* v = optional(l, "shadows")) shadows = boolean(*v, member(lpath, "shadows"));
             if (directional) {
                 DirectionalLight d;
-                d.direction = direction(required(l, lpath, "direction", what), member(lpath, "direction"));
+                d.direction = vec3(required(l, lpath, "direction", what), member(lpath, "direction"));
                 d.color = color_v;
                 d.ls = ls;
                 d.shadows = shadows;
                 scene.directional_lights.push_back(d);
+                source.directional.push_back(i);
             } else {
                 PointLight p;
                 p.position = vec3(required(l, lpath, "position", what), member(lpath, "position"));
@@ -274,8 +239,9 @@ public:
                 p.shadows = shadows;
                 if (auto* v = optional(l, "attenuation"))
                     p.attenuation = static_cast<Attenuation>(
-                        one_of(*v, member(lpath, "attenuation"), "attenuation", {"none", "inverse_square"}));
+                        one_of(*v, member(lpath, "attenuation"), "attenuation", names_of(kAttenuationNames)));
                 scene.point_lights.push_back(p);
+                source.point.push_back(i);
             }
         }
     }
@@ -283,75 +249,38 @@ public:
     Shape shape(const Json& o, const std::string& path, PrimitiveType type) const {
         const std::string what = std::string("a ") + primitive_type_name(type);
         auto req = [&](const char* key) -> const Json& { return required(o, path, key, what); };
-        auto point = [&](const char* key) { return vec3(req(key), member(path, key)); };
-        auto dir = [&](const char* key) { return direction(req(key), member(path, key)); };
-        auto radius = [&] { return positive(req("radius"), member(path, "radius")); };
+        auto vec = [&](const char* key) { return vec3(req(key), member(path, key)); };
+        auto radius = [&] { return number(req("radius"), member(path, "radius")); };
         switch (type) {
             case PrimitiveType::sphere: {
                 Sphere s;
-                s.center = point("center");
+                s.center = vec("center");
                 s.radius = radius();
                 return s;
             }
-            case PrimitiveType::plane: return Plane{point("point"), dir("normal")};
+            case PrimitiveType::plane: return Plane{vec("point"), vec("normal")};
             case PrimitiveType::disk: {
                 Disk d;
-                d.center = point("center");
-                d.normal = dir("normal");
+                d.center = vec("center");
+                d.normal = vec("normal");
                 d.radius = radius();
                 return d;
             }
-            case PrimitiveType::rectangle: {
-                Rectangle r{point("corner"), point("a"), point("b")};
-                const auto a = normalized(r.a), b = normalized(r.b);
-                if (!a) fail(member(path, "a"), "degenerate rectangle: a must not be zero-length");
-                if (!b) fail(member(path, "b"), "degenerate rectangle: b must not be zero-length");
-                if (length(cross(*a, *b)) < kDegenerateSine)
-                    fail(path, "degenerate rectangle: a and b are parallel (|a x b| ~ 0 relative to |a||b|)");
-                return r;
-            }
-            case PrimitiveType::box: {
-                Box b{point("min"), point("max")};
-                const double lo[3] = {b.min.x, b.min.y, b.min.z}, hi[3] = {b.max.x, b.max.y, b.max.z};
-                for (int axis = 0; axis < 3; ++axis) {
-                    if (!(lo[axis] < hi[axis])) {
-                        const std::string a(1, "xyz"[axis]);
-                        fail(path, "degenerate box: min." + a + " = " + format_number(lo[axis]) + " is not < max." + a +
-                                       " = " + format_number(hi[axis]));
-                    }
-                }
-                return b;
-            }
+            case PrimitiveType::rectangle: return Rectangle{vec("corner"), vec("a"), vec("b")};
+            case PrimitiveType::box: return Box{vec("min"), vec("max")};
             case PrimitiveType::triangle: {
                 const std::string vpath = member(path, "vertices");
                 const Json& vs = req("vertices");
                 if (!vs.is_array() || vs.size() != 3)
                     fail(vpath, "must be an array of 3 points ([x,y,z]), got " + describe(vs));
-                Triangle t{vec3(vs[0], element(vpath, 0)), vec3(vs[1], element(vpath, 1)), vec3(vs[2], element(vpath, 2))};
-                check_triangle(t, vpath);
-                return t;
+                return Triangle{vec3(vs[0], element(vpath, 0)), vec3(vs[1], element(vpath, 1)), vec3(vs[2], element(vpath, 2))};
             }
         }
         fail(path, "internal error: unhandled primitive type");
     }
 
-    // Zero area relative to the longest edge: collinear or coincident vertices.
-    void check_triangle(const Triangle& t, const std::string& path) const {
-        Vec3d e[3] = {t.v1 - t.v0, t.v2 - t.v0, t.v2 - t.v1};
-        double m = 0;
-        for (const auto& v : e) m = std::max({m, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
-        if (!std::isfinite(m)) fail(path, "vertex differences overflow (coordinates too large)");
-        if (m > 0) {
-            for (auto& v : e) v = Vec3d{v.x / m, v.y / m, v.z / m};  // scale-free from here on
-            const double longest2 = std::max({dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2])});
-            if (length(cross(e[0], e[1])) >= kDegenerateSine * longest2) return;
-        }
-        fail(path, "degenerate triangle: zero area relative to its edge lengths (collinear or coincident vertices)");
-    }
-
     std::vector<Object> objects(const Json& j, const std::string& path, const std::vector<Material>& mats) const {
         if (!j.is_array()) fail(path, "must be an array, got " + describe(j));
-        static const Names types{"sphere", "plane", "disk", "rectangle", "box", "triangle"};
         static const std::vector<Names> fields{
             {"type", "center", "radius", "material"},         {"type", "point", "normal", "material"},
             {"type", "center", "normal", "radius", "material"}, {"type", "corner", "a", "b", "material"},
@@ -363,7 +292,7 @@ public:
         for (std::size_t i = 0; i < j.size(); ++i) {
             const Json& o = j[i];
             const std::string opath = element(path, i);
-            const auto type = static_cast<PrimitiveType>(type_of(o, opath, "object", types));
+            const auto type = static_cast<PrimitiveType>(type_of(o, opath, "object", names_of(kPrimitiveTypeNames)));
             const std::string what = std::string("a ") + primitive_type_name(type);
             reject_unknown(o, opath, what, fields[static_cast<std::size_t>(type)]);
             Object obj;
@@ -388,10 +317,9 @@ public:
         RenderSettings r;
         if (auto* v = optional(j, "tonemap"))
             r.tonemap = static_cast<ToneMap>(
-                one_of(*v, member(path, "tonemap"), "tonemap", {"max_to_one", "clamp_to_color", "saturate"}));
-        // clamp_color is a display colour, written as is: it must already be in [0, 1].
-        if (auto* v = optional(j, "clamp_color")) r.clamp_color = color(*v, member(path, "clamp_color"), 1.0);
-        if (auto* v = optional(j, "gamma")) r.gamma = positive(*v, member(path, "gamma"));
+                one_of(*v, member(path, "tonemap"), "tonemap", names_of(kToneMapNames)));
+        if (auto* v = optional(j, "clamp_color")) r.clamp_color = vec3(*v, member(path, "clamp_color"));
+        if (auto* v = optional(j, "gamma")) r.gamma = number(*v, member(path, "gamma"));
         return r;
     }
 
@@ -400,19 +328,28 @@ public:
         reject_unknown(root, "", "a scene",
                        {"camera", "background", "ambient", "lights", "materials", "objects", "render"});
         Scene s;
+        SourceMap source;
         s.camera = camera(required(root, "", "camera", "a scene"), "camera");
-        if (auto* v = optional(root, "background")) s.background = color(*v, "background");
+        if (auto* v = optional(root, "background")) s.background = vec3(*v, "background");
         if (auto* v = optional(root, "ambient")) s.ambient = ambient(*v, "ambient");
-        if (auto* v = optional(root, "lights")) lights(*v, "lights", s);
+        if (auto* v = optional(root, "lights")) lights(*v, "lights", s, source);
         s.materials = materials(required(root, "", "materials", "a scene"), "materials");
         s.objects = objects(required(root, "", "objects", "a scene"), "objects", s.materials);
         if (auto* v = optional(root, "render")) s.render = render(*v, "render");
+        // The values: the rules every scene meets, stated once (validate()).
+        try {
+            validate(s);
+        } catch (const InvalidScene& e) {
+            fail(source.json_path(e.path(), s), e.problem());
+        }
+        normalize_directions(s);
         return s;
     }
 
 private:
     std::string file_;
 };
+
 
 // Parser callback that tracks the JSON path being parsed: nlohmann keeps the
 // last of duplicate keys without a word, so a repeated key is rejected here,

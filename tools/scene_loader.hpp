@@ -1,9 +1,11 @@
 // tools/scene_loader.hpp — scene JSON (DESIGN.md "Scene JSON") -> octray::Scene.
 //
-// The loader is the only gate between hand-written files and the kernels, so it
-// checks everything: types, required fields, unknown fields (a typo must not be
-// silently ignored), ranges, finiteness and degenerate geometry. It normalizes
-// every direction (light `direction`, `normal`, camera `up`).
+// The loader checks the JSON's shape itself: types, required fields, unknown
+// fields (a typo must not be silently ignored), type and material names. Value
+// ranges, finiteness and degenerate geometry are judged by octray::validate()
+// (scene.hpp), the same rules a scene built in code meets, and reported at the
+// JSON path of the offending value. It normalizes every direction (light
+// `direction`, `normal`, camera `up`) with octray::unit_direction.
 //
 // Required: camera (type; eye, look_at, up, width, height; fov_y for pinhole,
 // height_world for orthographic), materials (object: name -> {type "matte",

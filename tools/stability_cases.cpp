@@ -34,9 +34,7 @@ Tracer naive_tracer() { return Tracer{Path::scalar, Precision::exact, true}; }
 
 namespace {
 
-constexpr double kU = 1.0 / 16777216.0;  // 2^-24
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
 
 // Rounds to float, through a volatile: GCC 12.2 at -O3 (SLP vectorizer) drops
 // the (double)(float)x round trip of paired x, y components (wrong code,
@@ -93,7 +91,7 @@ struct Out {
 struct Traced {
     std::vector<Out> lanes;
     int masked = 0;
-    double eps = kU;  // the mode's bound for 1/x and 1/sqrt(x)
+    double eps = kUnitRoundoff;  // the mode's bound for 1/x and 1/sqrt(x)
     bool flush = false;
     std::string note;  // e.g. "ran as fast" when the CPU lacks a mode
 };
@@ -111,7 +109,7 @@ Traced run(const Tracer& tr, const Scene& scene, const std::vector<Lane>& lanes,
     Kernel k = tr.naive ? general_kernel(Path::scalar) : select_kernel(ps, tr.path, tr.precision);
     Traced out;
     out.flush = flush;
-    out.eps = tr.naive ? kU : mode_eps(k.precision);
+    out.eps = tr.naive ? kUnitRoundoff : mode_eps(k.precision);
     if (!tr.naive && k.precision != tr.precision) out.note = std::string("ran as ") + precision_name(k.precision);
     for (std::size_t base = 0; base < lanes.size(); base += 8) {
         RayPacket8 rp{};
@@ -186,7 +184,7 @@ bool any_perturbation(const Scene& scene, const Lane& l, double scale, Pred pred
     for (int axis = 0; axis < 3; ++axis)
         for (double sign : {-1.0, 1.0}) {
             Vec3d e;
-            (axis == 0 ? e.x : axis == 1 ? e.y : e.z) = sign * 4 * kU;
+            (axis == 0 ? e.x : axis == 1 ? e.y : e.z) = sign * 4 * kUnitRoundoff;
             Lane moved = l, turned = l;
             moved.o = l.o + e * scale;
             turned.d = l.d + e * norm(l.d);
@@ -240,7 +238,7 @@ Measure check_hits(const Scene& scene, const std::vector<Lane>& lanes, const Tra
         }
         const double cosine = std::fabs(dot(h.normal, l.d)) / norm(l.d);
         double tau = tr.eps * std::fabs(h.t);
-        if (!opt.exact_inputs) tau += kU * lane_scale(scene, l, h, -1) / std::max(cosine, std::sqrt(kU));
+        if (!opt.exact_inputs) tau += kUnitRoundoff * lane_scale(scene, l, h, -1) / std::max(cosine, std::sqrt(kUnitRoundoff));
         const double err = std::fabs(k.t - h.t);
         if (debug())
             std::fprintf(stderr, "  lane %zu: t=%.9g ref=%.9g tau=%.3g err=%.3g\n", i, k.t, h.t, tau, err / tau);
@@ -290,7 +288,7 @@ struct RadianceOptions {
 // multiplying by kd cd / pi). Display colours must be finite and in [0, 1].
 Measure check_radiance(const Scene& scene, const std::vector<Lane>& lanes, const Traced& tr, RadianceOptions opt = {}) {
     Measure m;
-    const double in = opt.exact_inputs ? 0 : kU;  // input rounding
+    const double in = opt.exact_inputs ? 0 : kUnitRoundoff;  // input rounding
     for (std::size_t i = 0; i < lanes.size(); ++i) {
         const Lane& l = lanes[i];
         const Out& k = tr.lanes[i];
@@ -304,26 +302,26 @@ Measure check_radiance(const Scene& scene, const std::vector<Lane>& lanes, const
         if (h.object >= 0) {
             const Object& obj = scene.objects[std::size_t(h.object)];
             const Material& mat = scene.materials[std::size_t(obj.material)];
-            diffuse = mat.cd * (mat.kd / kPi);
+            diffuse = reference::lambertian_brdf(mat);
             const Vec3d& p = h.point;
             // The kernel shades its own hit point: off by its t error along d,
             // by the rounding of o + t d, and by the inputs' rounding.
-            const double dp = std::fabs(k.t - h.t) * norm(l.d) + kU * norm(p) + in * norm(l.o);
+            const double dp = std::fabs(k.t - h.t) * norm(l.d) + kUnitRoundoff * norm(p) + in * norm(l.o);
             double dn = 2 * in;
-            if (const Sphere* s = std::get_if<Sphere>(&obj.shape)) dn += 2 * kU + dp / s->radius;
+            if (const Sphere* s = std::get_if<Sphere>(&obj.shape)) dn += 2 * kUnitRoundoff + dp / s->radius;
             auto add = [&](const Vec3d& radiance, double ndl, double falloff, double dl) {
                 if (ndl < -1e-3) return;  // clearly behind: exactly 0 on both sides
                 cond += hadamard(diffuse, radiance) * (falloff * (dn + dl));
                 if (ndl > 0) irradiance += radiance * (falloff * ndl);
             };
             for (const DirectionalLight& d : scene.directional_lights)
-                add(d.color * d.ls, dot(h.normal, d.direction), 1, 2 * in);
+                add(d.color * d.ls, dot(h.normal, unit_direction(d.direction)), 1, 2 * in);
             for (const PointLight& pl : scene.point_lights) {
                 const Vec3d v = pl.position - p;
                 const double r = norm(v);
                 if (r == 0) continue;
                 const double falloff = pl.attenuation == Attenuation::inverse_square ? 1 / (r * r) : 1;
-                add(pl.color * pl.ls, dot(h.normal, v) / r, falloff, 3 * (dp + in * norm(pl.position)) / r + 2 * kU);
+                add(pl.color * pl.ls, dot(h.normal, v) / r, falloff, 3 * (dp + in * norm(pl.position)) / r + 2 * kUnitRoundoff);
             }
         }
         for (int c = 0; c < 3; ++c) {
@@ -734,7 +732,7 @@ Measure must_hit(const Tracer& tr, const Scene& s, const std::vector<Lane>& lane
         }
         const Vec3d nr = reference::geometric_normal(s.objects[std::size_t(obj)].shape, l.o + l.d * *tk);
         const double cosine = std::fabs(dot(nr, l.d)) / norm(l.d);
-        const double tau = t.eps * *tk + kU * lane_scale(s, l, h, obj) / std::max(cosine, std::sqrt(kU));
+        const double tau = t.eps * *tk + kUnitRoundoff * lane_scale(s, l, h, obj) / std::max(cosine, std::sqrt(kUnitRoundoff));
         terr = std::max(terr, std::fabs(t.lanes[i].t - *tk) / tau);
     }
     m.error = leaks;
@@ -875,7 +873,8 @@ std::string summation_study(const Scene& s, const std::vector<Lane>& lanes) {
         if (h.object < 0) continue;
         std::vector<double> terms;
         for (const DirectionalLight& d : s.directional_lights)
-            if (dot(h.normal, d.direction) > 0) terms.push_back(fl(d.color.x * d.ls) * fl(dot(h.normal, d.direction)));
+            if (const double ndl = dot(h.normal, unit_direction(d.direction)); ndl > 0)
+                terms.push_back(fl(d.color.x * d.ls) * fl(ndl));
         for (Attenuation att : {Attenuation::none, Attenuation::inverse_square})
             for (const PointLight& p : s.point_lights) {
                 if (p.attenuation != att) continue;
@@ -893,8 +892,8 @@ std::string summation_study(const Scene& s, const std::vector<Lane>& lanes) {
             kahan = sum;
         }
         if (exact <= 0) continue;
-        naive_err = std::max(naive_err, double(std::fabs(naive - exact) / exact) / kU);
-        kahan_err = std::max(kahan_err, double(std::fabs(kahan - exact) / exact) / kU);
+        naive_err = std::max(naive_err, double(std::fabs(naive - exact) / exact) / kUnitRoundoff);
+        kahan_err = std::max(kahan_err, double(std::fabs(kahan - exact) / exact) / kUnitRoundoff);
     }
     return fmt("sum alone: recursive %.2f u, Kahan %.2f u (worst case 63 u)", naive_err, kahan_err);
 }

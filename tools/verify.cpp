@@ -5,6 +5,8 @@
 
 #include <octray/reference.hpp>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,14 +16,11 @@
 namespace octray {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Radiance of a hit with every light at n.l = 1 and unshadowed: the scale
 // against which float rounding of n.l is an absolute error.
 Vec3d full_light_scale(const Scene& scene, const reference::Hit& hit) {
     const Material& m = scene.materials[std::size_t(scene.objects[std::size_t(hit.object)].material)];
-    Vec3d s;
-    if (scene.ambient) s = hadamard(m.cd * m.ka, scene.ambient->color * scene.ambient->ls);
     Vec3d e;
     for (const DirectionalLight& l : scene.directional_lights) e += l.color * l.ls;
     for (const PointLight& l : scene.point_lights) {
@@ -29,7 +28,7 @@ Vec3d full_light_scale(const Scene& scene, const reference::Hit& hit) {
         if (l.attenuation == Attenuation::inverse_square) w = 1.0 / length_squared(l.position - hit.point);
         e += l.color * (l.ls * w);
     }
-    return s + hadamard(m.cd * (m.kd / kPi), e);
+    return reference::ambient_term(scene, m) + hadamard(reference::lambertian_brdf(m), e);
 }
 
 std::int64_t ordered_bits(float f) {
@@ -38,22 +37,19 @@ std::int64_t ordered_bits(float f) {
     return i < 0 ? std::int64_t(std::numeric_limits<std::int32_t>::min()) - i : i;
 }
 
-// Which shadow-casting lights are blocked at a hit, by the reference's rule
-// (shadow ray from p lifted 1e-9 (1 + |p|) along the facing normal).
+// Which shadow-casting lights facing the hit (n.l > 0) are blocked there, by
+// the reference's own test (reference::shadowed).
 std::uint64_t blocked_lights(const Scene& scene, const reference::Hit& hit) {
     if (hit.object < 0) return 0;
-    const Vec3d o = hit.point + hit.normal * (1e-9 * (1.0 + std::sqrt(length_squared(hit.point))));
     std::uint64_t bits = 0;
     unsigned j = 0;
-    auto blocked = [&](const Vec3d& dir, double tmax) { return reference::trace(scene, {o, dir}, 0.0, tmax).object >= 0; };
     for (const DirectionalLight& l : scene.directional_lights) {
-        if (j < 64 && l.shadows && dot(l.direction, hit.normal) > 0 && blocked(l.direction, 1e300)) bits |= std::uint64_t(1) << j;
+        if (j < 64 && dot(l.direction, hit.normal) > 0 && reference::shadowed(scene, hit, l)) bits |= std::uint64_t(1) << j;
         ++j;
     }
     for (const PointLight& l : scene.point_lights) {
-        const Vec3d v = l.position - o;
-        const double r = std::sqrt(length_squared(v));
-        if (j < 64 && l.shadows && r > 0 && dot(v, hit.normal) > 0 && blocked(v * (1 / r), r)) bits |= std::uint64_t(1) << j;
+        if (j < 64 && dot(l.position - hit.point, hit.normal) > 0 && reference::shadowed(scene, hit, l))
+            bits |= std::uint64_t(1) << j;
         ++j;
     }
     return bits;
@@ -99,8 +95,10 @@ PacketRender render_packet(const Kernel& kernel, const PacketScene& scene, int t
     out.primitive.assign(std::size_t(w) * std::size_t(h), -1);
     const auto start = std::chrono::steady_clock::now();
     std::uint64_t rays = 0, masked = 0;
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) reduction(+ : rays, masked)
+    int team = 1;
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) reduction(+ : rays, masked) reduction(max : team)
     for (int y = 0; y < h; ++y) {
+        team = std::max(team, omp_get_num_threads());
         RenderCounters c;
         render_rows(kernel, scene, y, y + 1, out.radiance, display, &c, out.primitive.data());
         if (progress) progress->tick();
@@ -110,6 +108,7 @@ PacketRender render_packet(const Kernel& kernel, const PacketScene& scene, int t
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.counters.rays = rays;
     out.counters.masked = masked;
+    out.threads = team;
     return out;
 }
 

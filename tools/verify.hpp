@@ -27,6 +27,7 @@ struct PacketRender {
     std::vector<std::int32_t> primitive;
     RenderCounters counters;
     double seconds = 0;  // wall time of the render itself
+    int threads = 0;     // the OpenMP threads it ran on
 };
 // Rows are spread over `threads` OpenMP threads; `progress` (optional) is ticked per row.
 class Progress;

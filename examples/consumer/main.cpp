@@ -28,7 +28,7 @@ int main() {
     k.shade(compiled, rays, hits, radiance);
 
     // Hit at (0,1,0), n = (0,1,0) = l: L = kd cd / pi * ls * n.l = 0.65 * 2 / pi.
-    const double want = 0.65 * 2.0 / 3.14159265358979323846;
+    const double want = 0.65 * 2.0 / octray::kPi;
     const bool ok = masked == 0 && hits.hit[0] == -1 && std::fabs(hits.t[0] - 4.0f) <= 4e-6f &&
                     std::fabs(radiance.g[0] - want) <= 1e-5 * want && hits.hit[1] == 0 && hits.primitive[7] == -1;
     std::printf("%s: t = %.7g, radiance = %.7g (want 4, %.7g): %s\n", k.name().c_str(), hits.t[0], radiance.g[0], want,

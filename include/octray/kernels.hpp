@@ -27,7 +27,9 @@ namespace octray {
 
 enum class Path {
     scalar,  // the kernel at one float lane, run lane by lane: the speed baseline
-    simd,    // the same kernel at 8 float lanes (AVX2 + FMA); Precision::f64: 8 double lanes
+    simd,    // the same kernel at 8 float lanes, one ymm register, built for AVX2 + FMA and for
+             // AVX-512 F+VL (see Isa: the CPU's best unless pinned); Precision::f64: 8 double
+             // lanes (two ymm registers on AVX2, one zmm on AVX-512)
 };
 inline constexpr const char* path_name(Path p) { return p == Path::scalar ? "scalar" : "simd"; }
 

@@ -42,6 +42,19 @@ Hit trace(const Scene& scene, const Ray& ray, double tmin = 0.0, double tmax = 1
 // HDR radiance of a hit (seed eq. 7-8), or the background on a miss.
 Vec3d shade(const Scene& scene, const Ray& ray, const Hit& hit);
 
+// shade()'s parts, for tools and tests that weigh or check its terms; each is
+// defined once here and shade() uses them.
+// Seed eq. 7: material m's ambient term ka cd * (ls cl); zero without ambient light.
+Vec3d ambient_term(const Scene& scene, const Material& m);
+// Seed eq. 8: m's Lambertian BRDF kd cd / pi; a light adds it * (ls cl) * n.l.
+Vec3d lambertian_brdf(const Material& m);
+// The reference's shadow test at a hit: true when `light` casts shadows and
+// its shadow ray meets an object before reaching it. The ray starts at
+// p + n * 1e-9 (1 + |p|), just off the surface along the facing normal, so it
+// does not re-hit the surface it leaves. shade() asks only for lights with n.l > 0.
+bool shadowed(const Scene& scene, const Hit& hit, const DirectionalLight& light);
+bool shadowed(const Scene& scene, const Hit& hit, const PointLight& light);
+
 // Display colour in [0,1]^3 from HDR radiance: tone map, then gamma.
 Vec3d tonemap(const Vec3d& radiance, const RenderSettings& settings);
 

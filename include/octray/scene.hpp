@@ -1,15 +1,24 @@
 // octray/scene.hpp — scene authoring types (array-of-structures, double).
 //
 // This is what the JSON loader produces and what an engine may build by hand.
-// Invariants (the loader checks them; `validate` re-checks a hand-built scene):
-// directions are unit length, radii and extents are positive, material indices
-// are in range, every number is finite (see validate()). Field meanings follow DESIGN.md and
-// the seed (../shared/seed/lights-and-materials.md, eq. 1, 3, 6, 7, 8).
+// Invariants (validate() holds the rules; the loader and compile() apply it):
+// radii and extents are positive, material indices are in range, every number
+// is finite (see validate()). Field meanings follow DESIGN.md and the seed
+// (../shared/seed/lights-and-materials.md, eq. 1, 3, 6, 7, 8).
+//
+// Directions (DirectionalLight::direction, Plane::normal, Disk::normal,
+// Camera::up) need not be unit length: any finite, non-zero vector is valid,
+// and every path (reference, scalar, simd) uses it as unit_direction(v), the
+// one normalization below. So a hand-built scene with direction {1, 2, 1}
+// renders the same on every path; the JSON loader stores them normalized.
 #pragma once
 
+#include <octray/constants.hpp>
 #include <octray/vec3.hpp>
 
+#include <cstddef>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
@@ -17,12 +26,16 @@
 namespace octray {
 
 enum class CameraType { pinhole, orthographic };
+// Each enum's names (the JSON and CLI spelling), in enumerator order, defined
+// once beside it; the loader, the CLI and the tools read them from here.
+inline constexpr const char* kCameraTypeNames[] = {"pinhole", "orthographic"};
+inline constexpr const char* camera_type_name(CameraType t) { return kCameraTypeNames[static_cast<int>(t)]; }
 
 struct Camera {
     CameraType type = CameraType::pinhole;
     Vec3d eye{0, 0, 5};
     Vec3d look_at{0, 0, 0};
-    Vec3d up{0, 1, 0};      // unit length, not parallel to eye - look_at
+    Vec3d up{0, 1, 0};      // any length (see above), not parallel to eye - look_at
     double fov_y = 45.0;    // degrees, pinhole only, in (0, 180)
     double height_world = 2.0;  // orthographic only, > 0
     int width = 320;
@@ -44,9 +57,11 @@ struct AmbientLight {
 };
 
 enum class Attenuation { none, inverse_square };
+inline constexpr const char* kAttenuationNames[] = {"none", "inverse_square"};
+inline constexpr const char* attenuation_name(Attenuation a) { return kAttenuationNames[static_cast<int>(a)]; }
 
-// Directional light, seed eq. 3. `direction` is unit and points from the
-// surface toward the light (the seed's l).
+// Directional light, seed eq. 3. `direction` points from the surface toward
+// the light (the seed's l is unit_direction(direction)).
 struct DirectionalLight {
     Vec3d direction{0, 1, 0};
     Vec3d color{1, 1, 1};
@@ -64,7 +79,7 @@ struct PointLight {
 };
 
 struct Sphere { Vec3d center; double radius = 1; };
-struct Plane { Vec3d point; Vec3d normal{0, 1, 0}; };           // normal unit
+struct Plane { Vec3d point; Vec3d normal{0, 1, 0}; };           // normal: any length
 struct Disk { Vec3d center; Vec3d normal{0, 1, 0}; double radius = 1; };
 struct Rectangle { Vec3d corner; Vec3d a{1, 0, 0}; Vec3d b{0, 1, 0}; };  // corner + s*a + t*b, s,t in [0,1]
 struct Box { Vec3d min; Vec3d max{1, 1, 1}; };                   // axis-aligned, min < max
@@ -74,10 +89,9 @@ using Shape = std::variant<Sphere, Plane, Disk, Rectangle, Box, Triangle>;
 
 enum class PrimitiveType { sphere = 0, plane, disk, rectangle, box, triangle };
 inline constexpr int kPrimitiveTypeCount = 6;
-inline constexpr const char* primitive_type_name(PrimitiveType t) {
-    constexpr const char* names[] = {"sphere", "plane", "disk", "rectangle", "box", "triangle"};
-    return names[static_cast<int>(t)];
-}
+inline constexpr const char* kPrimitiveTypeNames[kPrimitiveTypeCount] = {"sphere", "plane", "disk",
+                                                                          "rectangle", "box", "triangle"};
+inline constexpr const char* primitive_type_name(PrimitiveType t) { return kPrimitiveTypeNames[static_cast<int>(t)]; }
 inline PrimitiveType primitive_type(const Shape& s) { return static_cast<PrimitiveType>(s.index()); }
 
 struct Object {
@@ -86,10 +100,12 @@ struct Object {
 };
 
 enum class ToneMap { max_to_one, clamp_to_color, saturate };
+inline constexpr const char* kToneMapNames[] = {"max_to_one", "clamp_to_color", "saturate"};
+inline constexpr const char* tonemap_name(ToneMap t) { return kToneMapNames[static_cast<int>(t)]; }
 
 struct RenderSettings {
     ToneMap tonemap = ToneMap::max_to_one;
-    Vec3d clamp_color{1, 0, 0};
+    Vec3d clamp_color{1, 0, 0};  // a display colour: components in [0, 1]
     double gamma = 1.0;  // > 0; display colour is c^(1/gamma)
 };
 
@@ -104,10 +120,35 @@ struct Scene {
     RenderSettings render;
 };
 
-// Checks the invariants above on a scene built in code (the JSON loader checks
-// them with file positions). Throws std::invalid_argument naming the first
-// offending field, e.g. "objects[3].material: index 7, but there are 2 materials".
-// compile() calls it, so the kernels only ever see valid scenes.
+// The unit vector along a scene direction, v / |v|: the one normalization
+// every path applies to DirectionalLight::direction, Plane::normal,
+// Disk::normal and Camera::up. v is first scaled by a power of two (exact), so
+// components near 1e300 or 1e-300 neither overflow nor underflow; where v.v
+// does neither anyway, the result is bit for bit v / sqrt(v.v). NaN
+// components for a zero or non-finite v, which validate() rejects.
+Vec3d unit_direction(const Vec3d& v);
+
+// What validate() throws: what() is "PATH: PROBLEM", e.g.
+// "objects[3].radius: must be > 0, got -1"; path() and problem() are the two
+// parts (the JSON loader reports problem() at the file's path for path()).
+class InvalidScene : public std::invalid_argument {
+public:
+    InvalidScene(const std::string& path, const std::string& problem);
+    std::string path() const;
+    std::string problem() const;
+
+private:
+    std::size_t path_size_;
+};
+
+// The one set of scene rules: checks the invariants above, on a scene built in
+// code and on every scene the JSON loader reads (it judges value ranges by
+// this function alone). Throws InvalidScene (a std::invalid_argument) naming
+// the first offending field, e.g. "objects[3].material: index 7, but there are
+// 2 materials". compile() calls it, so the kernels only ever see valid scenes.
+// Degenerate means, scale-free: a camera `up` within a sine of 1e-6 of the
+// view direction; rectangle edges a, b with |a x b| < 1e-9 |a||b|; a triangle
+// with |(v1 - v0) x (v2 - v0)| < 1e-9 times its longest edge squared.
 void validate(const Scene& scene);
 
 }  // namespace octray
