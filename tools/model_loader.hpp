@@ -34,8 +34,9 @@ using Matrix4d = std::array<double, 16>;
 // - a model may have at most kMaxModelTriangles triangles, counted after glTF instancing
 //   (a mesh used by n nodes counts n times) and before degenerate ones are dropped.
 // A 2^26-triangle binary PLY is about 1.2 GB, so the file limit does not cut below the
-// triangle limit. Assimp's own in-memory form costs far more than the file: see
-// the report of issue 17 for the peak measured.
+// triangle limit. Memory is the real cost: loading a 4.2-million-triangle binary PLY
+// (height_field(1448), 80 MB) peaked at 590 MB resident, about 140 bytes a triangle, most
+// of it assimp's; at the triangle limit that is about 9.4 GB.
 inline constexpr std::uint64_t kMaxModelFileBytes = std::uint64_t(2) << 30;  // 2 GiB
 inline constexpr std::uint64_t kMaxModelTriangles = std::uint64_t(1) << 26;
 
