@@ -48,6 +48,7 @@ void store_hit(const SceneData& s, const Ray<T, P>& r, const Closest<T>& best, V
     const Lookup<T> at(k, hit);
     store_index(hp.primitive, 0, lane::select(hit, at(s.object_of), T(-1)));
     store_index(hp.material, 0, lane::select(hit, at(s.material_of), T(-1)));
+    store_index(hp.mesh, 0, T(-1));  // no meshes in these subsets
     store(hp.nx, 0, lane::select(hit, n.x, T(0)));
     store(hp.ny, 0, lane::select(hit, n.y, T(0)));
     store(hp.nz, 0, lane::select(hit, n.z, T(0)));

@@ -6,6 +6,7 @@ namespace octray {
 Features features_of(const Scene& scene) {
     Features f;
     for (const Object& o : scene.objects) f.bits |= 1u << unsigned(primitive_type(o.shape));
+    if (scene.mesh_triangle_count() > 0) f.bits |= kTriangle;  // mesh triangles are triangles
     if (scene.ambient) f.bits |= kAmbient;
     for (const DirectionalLight& l : scene.directional_lights) {
         f.bits |= kDirectional;

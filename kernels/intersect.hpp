@@ -182,6 +182,8 @@ inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8&
     store(hp.nz, lane, lane::keep(hit, n.z));
     store_mask<T>(hp.hit, lane, hit);
     store_mask<T>(hp.invalid, lane, r.invalid);
+    if constexpr ((F & kTriangle) != 0) store_index(hp.mesh, lane, lane::select(hit, at(s.mesh_of), T(-1)));
+    else store_index(hp.mesh, lane, T(-1));
     return masked;
 }
 

@@ -152,41 +152,75 @@ void disable_culling(PacketScene& scene) {
 
 PacketScene compile(const Scene& scene) {
     constexpr std::size_t kMaxIndex = std::size_t(1) << 24;  // indices travel as exact floats
-    if (scene.objects.size() >= kMaxIndex || scene.materials.size() >= kMaxIndex)
-        throw std::invalid_argument("octray::compile: more than 2^24 objects or materials");
+    if (scene.objects.size() + scene.mesh_triangle_count() >= kMaxIndex || scene.materials.size() >= kMaxIndex)
+        throw std::invalid_argument("octray::compile: 2^24 or more primitives or materials");
     validate(scene);
 
     PacketScene compiled;
     SceneData& s = *compiled.data_;
     s.features = features_of(scene);
     for (const Object& o : scene.objects) ++s.count[std::size_t(primitive_type(o.shape))];
+    s.count[std::size_t(PrimitiveType::triangle)] += int(scene.mesh_triangle_count());
     for (int t = 1; t < kPrimitiveTypeCount; ++t) s.offset[std::size_t(t)] = s.offset[std::size_t(t - 1)] + s.count[std::size_t(t - 1)];
 
     // Bounded primitives go into one BVH; its leaf order is each type's
-    // compiled order. Planes keep scene order.
-    std::array<std::vector<std::size_t>, kPrimitiveTypeCount> of_type;  // object indices, scene order
+    // compiled order. Planes keep scene order. Entries are primitive ids
+    // (scene.hpp): objects, then mesh triangles.
+    const std::size_t object_count = scene.objects.size();
+    std::array<std::vector<std::size_t>, kPrimitiveTypeCount> of_type;
     bvh::BuildInput input;
     input.kind_count = kPrimitiveTypeCount;
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    for (std::size_t i = 0; i < object_count; ++i) {
         const PrimitiveType type = primitive_type(scene.objects[i].shape);
         of_type[std::size_t(type)].push_back(i);
         if (type == PrimitiveType::plane) continue;
         input.boxes.push_back(box_of(scene.objects[i].shape));
         input.kind.push_back(std::uint8_t(type));
     }
+    // Mesh vertices once each, in float; triangles index them.
+    std::vector<std::int32_t> vertex_base;   // per mesh: its first vertex in s.triangles
+    std::vector<std::size_t> first_triangle;  // per mesh: its first triangle's primitive id
+    std::size_t id = object_count;
+    for (const Mesh& m : scene.meshes) {
+        vertex_base.push_back(std::int32_t(s.triangles.vx.size()));
+        first_triangle.push_back(id);
+        for (const Vec3d& v : m.vertices) push3(s.triangles.vx, s.triangles.vy, s.triangles.vz, v);
+        for (std::size_t k = 0; k < m.triangle_count(); ++k, ++id) {
+            of_type[std::size_t(PrimitiveType::triangle)].push_back(id);
+            input.boxes.push_back(box_of(reference::mesh_triangle(m, k)));
+            input.kind.push_back(std::uint8_t(PrimitiveType::triangle));
+        }
+    }
     s.bvh = bvh::build_bvh8(input);
 
-    s.object_of.resize(scene.objects.size());
-    s.material_of.resize(scene.objects.size());
+    const std::size_t total = id;
+    s.object_of.resize(total);
+    s.material_of.resize(total);
+    s.mesh_of.assign(total, -1.0f);
     for (int type = 0; type < kPrimitiveTypeCount; ++type) {
-        const std::vector<std::size_t>& objects = of_type[std::size_t(type)];
-        for (std::size_t pos = 0; pos < objects.size(); ++pos) {
+        const std::vector<std::size_t>& ids = of_type[std::size_t(type)];
+        for (std::size_t pos = 0; pos < ids.size(); ++pos) {
             const bool planes = type == int(PrimitiveType::plane);
-            const std::size_t i = objects[planes ? pos : s.bvh.order[std::size_t(type)][pos]];
+            const std::size_t i = ids[planes ? pos : s.bvh.order[std::size_t(type)][pos]];
             const std::size_t cid = std::size_t(s.offset[std::size_t(type)]) + pos;
             s.object_of[cid] = float(i);
-            s.material_of[cid] = float(scene.objects[i].material);
-            append_primitive(s, scene.objects[i].shape);
+            if (i < object_count) {
+                s.material_of[cid] = float(scene.objects[i].material);
+                append_primitive(s, scene.objects[i].shape);
+                continue;
+            }
+            const std::size_t m = std::size_t(std::upper_bound(first_triangle.begin(), first_triangle.end(), i) -
+                                              first_triangle.begin()) - 1;
+            const Mesh& mesh = scene.meshes[m];
+            const std::size_t k = i - first_triangle[m];
+            s.material_of[cid] = float(mesh.material);
+            s.mesh_of[cid] = float(m);
+            auto& a = s.triangles;
+            a.i0.push_back(vertex_base[m] + std::int32_t(mesh.indices[3 * k]));
+            a.i1.push_back(vertex_base[m] + std::int32_t(mesh.indices[3 * k + 1]));
+            a.i2.push_back(vertex_base[m] + std::int32_t(mesh.indices[3 * k + 2]));
+            const Triangle tri = reference::mesh_triangle(mesh, k);
+            push3(a.nx, a.ny, a.nz, normalized(cross(tri.v1 - tri.v0, tri.v2 - tri.v0)));
         }
     }
     pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.inv_radius, s.spheres.radius);
@@ -197,7 +231,7 @@ PacketScene compile(const Scene& scene) {
     pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
     auto& t = s.triangles;
     pad(t.vx, t.vy, t.vz, t.nx, t.ny, t.nz);
-    pad(s.object_of, s.material_of);
+    pad(s.object_of, s.material_of, s.mesh_of);
 
     for (const DirectionalLight& l : scene.directional_lights) {
         auto& a = s.directional;

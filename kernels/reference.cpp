@@ -204,9 +204,7 @@ Vec3d box_normal_at(const Box& box, const Vec3d& p) {
 
 // Is anything hit in (0, tmax) along the ray? (Shadow rays.)
 bool occluded(const Scene& scene, const Ray& ray, double tmax) {
-    for (const Object& o : scene.objects)
-        if (intersect(o.shape, ray, 0.0, tmax)) return true;
-    return false;
+    return for_each_primitive(scene, [&](int, const Shape& shape) { return intersect(shape, ray, 0.0, tmax).has_value(); });
 }
 
 // Lambertian term of one light, seed eq. 8: (kd cd / pi) * (ls cl) * (n.l).
@@ -270,21 +268,44 @@ Hit trace(const Scene& scene, const Ray& ray, double tmin, double tmax) {
     Hit hit;
     if (!finite(ray.origin) || !finite(ray.direction) || length_squared(ray.direction) == 0.0) return hit;
     double nearest = tmax;
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        // The interval is open at `nearest`, so an equal t keeps the lower index.
-        if (const auto t = intersect(scene.objects[i].shape, ray, tmin, nearest)) {
+    // The interval is open at `nearest`, so an equal t keeps the lower id.
+    for_each_primitive(scene, [&](int id, const Shape& shape) {
+        if (const auto t = intersect(shape, ray, tmin, nearest)) {
             nearest = *t;
-            hit.object = static_cast<int>(i);
+            hit.object = id;
         }
-    }
+        return false;
+    });
     if (hit.object < 0) return hit;
-    const Shape& shape = scene.objects[std::size_t(hit.object)].shape;
+    const Shape shape = primitive_shape(scene, hit.object);
     hit.t = nearest;
     hit.point = point_at(ray, nearest);
     if (const Box* box = std::get_if<Box>(&shape)) intersect_box(*box, ray, tmin, tmax, &hit.normal);
     else hit.normal = geometric_normal(shape, hit.point);
     if (dot(hit.normal, ray.direction) > 0.0) hit.normal = -hit.normal;  // face the incoming ray
     return hit;
+}
+
+Shape primitive_shape(const Scene& scene, int id) {
+    std::size_t k = std::size_t(id);
+    if (k < scene.objects.size()) return scene.objects[k].shape;
+    k -= scene.objects.size();
+    for (const Mesh& m : scene.meshes) {
+        if (k < m.triangle_count()) return mesh_triangle(m, k);
+        k -= m.triangle_count();
+    }
+    return Sphere{};  // not reached for a valid id
+}
+
+int primitive_material(const Scene& scene, int id) {
+    std::size_t k = std::size_t(id);
+    if (k < scene.objects.size()) return scene.objects[k].material;
+    k -= scene.objects.size();
+    for (const Mesh& m : scene.meshes) {
+        if (k < m.triangle_count()) return m.material;
+        k -= m.triangle_count();
+    }
+    return -1;
 }
 
 Vec3d ambient_term(const Scene& scene, const Material& m) {
@@ -308,7 +329,7 @@ bool shadowed(const Scene& scene, const Hit& hit, const PointLight& light) {
 // shadows on is skipped when a shadow ray from p meets any object before it.
 Vec3d shade(const Scene& scene, const Ray& /*ray*/, const Hit& hit) {
     if (hit.object < 0) return scene.background;
-    const Material& m = scene.materials.at(std::size_t(scene.objects[std::size_t(hit.object)].material));
+    const Material& m = scene.materials.at(std::size_t(primitive_material(scene, hit.object)));
     const Vec3d& p = hit.point;
     const Vec3d& n = hit.normal;
 

@@ -61,7 +61,8 @@ struct SceneData {
     RectangleArrays rectangles;
     BoxArrays boxes;
     TriangleArrays triangles;
-    Floats object_of;    // compiled id -> Scene::objects index (exact in float below 2^24)
+    Floats object_of;    // compiled id -> primitive id (scene.hpp; exact in float below 2^24)
+    Floats mesh_of;      // compiled id -> Scene::meshes index, -1 for an object
     Floats material_of;  // compiled id -> Scene::materials index
 
     int directional_count = 0, point_count = 0, point_attenuated_count = 0;

@@ -157,6 +157,32 @@ InvalidScene::InvalidScene(const std::string& path, const std::string& problem)
 std::string InvalidScene::path() const { return std::string(what(), path_size_); }
 std::string InvalidScene::problem() const { return std::string(what() + path_size_ + 2); }
 
+namespace {
+
+void mesh(const std::string& p, const Mesh& m, const Scene& scene) {
+    if (m.material < 0 || std::size_t(m.material) >= scene.materials.size())
+        fail(p + ".material", "index " + std::to_string(m.material) + ", but there are " +
+                                  std::to_string(scene.materials.size()) + " materials");
+    if (m.indices.size() % 3 != 0)
+        fail(p + ".indices", "must hold three per triangle, got " + std::to_string(m.indices.size()));
+    if (m.indices.empty()) fail(p, "has no triangles");
+    for (std::size_t v = 0; v < m.vertices.size(); ++v)
+        if (!std::isfinite(m.vertices[v].x) || !std::isfinite(m.vertices[v].y) || !std::isfinite(m.vertices[v].z))
+            fail(p + ".vertices[" + std::to_string(v) + "]", "must be finite");
+    for (std::size_t k = 0; k < m.indices.size(); ++k)
+        if (m.indices[k] >= m.vertices.size())
+            fail(p + ".indices[" + std::to_string(k) + "]", "index " + std::to_string(m.indices[k]) + " out of range (" +
+                                                                std::to_string(m.vertices.size()) + " vertices)");
+    for (std::size_t k = 0; k < m.indices.size(); k += 3) {
+        const Vec3d& a = m.vertices[m.indices[k]];
+        const Vec3d n = cross(m.vertices[m.indices[k + 1]] - a, m.vertices[m.indices[k + 2]] - a);
+        if (n.x == 0 && n.y == 0 && n.z == 0)
+            fail(p + ".indices[" + std::to_string(k) + "]", "triangle " + std::to_string(k / 3) + " has zero area");
+    }
+}
+
+}  // namespace
+
 Vec3d unit_direction(const Vec3d& v) {
     // m = 2^e * [1, 2): scaling by 2^-e is exact and brings the largest component to [1, 2).
     const int e = std::ilogb(std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}));
@@ -192,6 +218,7 @@ void validate(const Scene& scene) {
                                       std::to_string(scene.materials.size()) + " materials");
         shape(p, o.shape);
     }
+    for (std::size_t i = 0; i < scene.meshes.size(); ++i) mesh("meshes[" + std::to_string(i) + "]", scene.meshes[i], scene);
     positive("render.gamma", scene.render.gamma);
     colour("render.clamp_color", scene.render.clamp_color, 1.0);
 }

@@ -264,7 +264,7 @@ TEST_CASE("unknown types list the allowed ones") {
     expect_error(edit(R"("red": {"type": "matte")", R"("red": {"type": "phong")"), "materials.red.type",
                  "unknown material type \"phong\" (allowed: matte)");
     expect_error(edit(R"("type": "box")", R"("type": "cone")"), "objects[4].type",
-                 "unknown object type \"cone\" (allowed: sphere, plane, disk, rectangle, box, triangle)");
+                 "unknown object type \"cone\" (allowed: sphere, plane, disk, rectangle, box, triangle, mesh)");
 }
 
 TEST_CASE("an unknown material name lists the defined ones") {

@@ -5,6 +5,7 @@
 
 #include <octray/kernels.hpp>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace octray::cli {
@@ -20,6 +21,15 @@ int run_info(const InfoArgs& args) {
                 packet.count(PrimitiveType::sphere), packet.count(PrimitiveType::plane),
                 packet.count(PrimitiveType::disk), packet.count(PrimitiveType::rectangle),
                 packet.count(PrimitiveType::box), packet.count(PrimitiveType::triangle));
+    for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+        const Mesh& m = scene.meshes[i];
+        Vec3d lo = m.vertices.front(), hi = lo;
+        for (const Vec3d& v : m.vertices)
+            lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)},
+            hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+        std::printf("mesh %-7zu %zu triangles, %zu vertices, %zu degenerate dropped, bounds [%g %g %g] - [%g %g %g]\n", i,
+                    m.triangle_count(), m.vertices.size(), m.dropped_degenerate, lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+    }
     int attenuated = 0;
     for (const PointLight& l : scene.point_lights) attenuated += l.attenuation == Attenuation::inverse_square;
     std::printf("lights       ambient %s, directional %zu, point %zu, point inverse_square %d\n",

@@ -9,12 +9,20 @@
 #include <octray/reference.hpp>
 
 #include <chrono>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace octray::cli {
 
 int run_render(const RenderArgs& args) {
-    const Scene scene = load_scene(args.scene);
+    Scene scene = load_scene(args.scene);
+    if (args.width > 0) {
+        const double aspect = double(scene.camera.height) / scene.camera.width;
+        scene.camera.height = std::max(1, int(std::lround(args.width * aspect)));
+        scene.camera.width = args.width;
+        validate(scene);  // the image-size limits
+    }
     const int threads = thread_count(args.threads);
     const bool use_reference = args.path == kReferencePathName;
     const auto start = std::chrono::steady_clock::now();

@@ -29,6 +29,7 @@ struct RenderArgs {
     std::string hdr;  // empty: no PFM
     std::string path = path_name(Path::simd);
     int threads = 0;  // 0: all cores
+    int width = 0;    // > 0: render at this width instead of the scene's, same aspect ratio
 };
 int run_render(const RenderArgs& args);
 

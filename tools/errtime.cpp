@@ -19,7 +19,7 @@ double scene_condition(const Scene& scene) {
             const reference::Hit hit = reference::trace(scene, ray);
             if (hit.object < 0) continue;
             const double t = hit.t * std::sqrt(dot(ray.direction, ray.direction));
-            if (const auto* s = std::get_if<Sphere>(&scene.objects[std::size_t(hit.object)].shape))
+            if (const auto* s = hit.object < int(scene.objects.size()) ? std::get_if<Sphere>(&scene.objects[std::size_t(hit.object)].shape) : nullptr)
                 worst = std::max(worst, t / s->radius);
             for (const PointLight& l : scene.point_lights) {
                 const double r = std::sqrt(length_squared(l.position - hit.point));

@@ -39,6 +39,8 @@ int main(int argc, char** argv) {
     render_cmd->add_option("--threads", render.threads, "render threads (0 = all cores, 1 = single thread)")
         ->check(CLI::Range(0, 1024))
         ->capture_default_str();
+    render_cmd->add_option("--width", render.width, "image width instead of the scene's (same aspect ratio)")
+        ->check(CLI::Range(1, 16384));
 
     VerifyArgs verify;
     auto* verify_cmd = app.add_subcommand("verify", "SIMD vs reference error table; exit 1 when over tolerance");

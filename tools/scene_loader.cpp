@@ -7,6 +7,8 @@
 // JSON path of the offending value.
 #include "scene_loader.hpp"
 
+#include "model_loader.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -59,6 +61,7 @@ std::string describe(const Json& v) {
 // an object keyed by name, not an array.
 struct SourceMap {
     std::vector<std::size_t> directional, point;  // the `lights` index of each Scene light
+    std::vector<std::size_t> mesh;                // the `objects` index of each Scene mesh
 
     std::string json_path(const std::string& scene_path, const Scene& scene) const {
         const auto open = scene_path.find('['), close = scene_path.find(']');
@@ -68,6 +71,7 @@ struct SourceMap {
         if (head == "materials") return member("materials", scene.materials.at(i).name) + rest;
         if (head == "directional_lights") return element("lights", directional.at(i)) + rest;
         if (head == "point_lights") return element("lights", point.at(i)) + rest;
+        if (head == "meshes") return element("objects", mesh.at(i)) + rest;
         return scene_path;  // camera, background, ambient, objects, render: the same in both
     }
 };
@@ -279,7 +283,54 @@ public:
         fail(path, "internal error: unhandled primitive type");
     }
 
-    std::vector<Object> objects(const Json& j, const std::string& path, const std::vector<Material>& mats) const {
+    // A mesh object (DESIGN.md, meshes): its model file read by load_model.
+    Mesh mesh(const Json& o, const std::string& opath) const {
+        reject_unknown(o, opath, "a mesh", {"type", "file", "material", "transform"});
+        const std::string fpath = member(opath, "file");
+        const std::string file = string(required(o, opath, "file", "a mesh"), fpath);
+        MeshTransform transform;
+        if (auto* v = optional(o, "transform")) transform = mesh_transform(*v, member(opath, "transform"));
+        // Relative to the scene file's folder.
+        std::string resolved = file;
+        const auto slash = file_.rfind('/');
+        if (!file.empty() && file[0] != '/' && slash != std::string::npos) resolved = file_.substr(0, slash + 1) + file;
+        try {
+            MeshData data = load_model(resolved, transform);
+            Mesh m;
+            m.vertices = std::move(data.vertices);
+            m.indices = std::move(data.indices);
+            m.dropped_degenerate = data.dropped_degenerate;
+            return m;
+        } catch (const ModelError& e) {
+            fail(fpath, file + ": " + e.what());
+        }
+    }
+
+    MeshTransform mesh_transform(const Json& j, const std::string& path) const {
+        expect_object(j, path);
+        reject_unknown(j, path, "a transform", {"translate", "rotate_deg", "scale", "matrix"});
+        MeshTransform t;
+        auto check = [&](const std::string& key, const std::string& problem) {
+            if (!problem.empty()) fail(member(path, key), problem);
+        };
+        if (auto* v = optional(j, "matrix")) {
+            for (const char* key : {"translate", "rotate_deg", "scale"})
+                if (optional(j, key)) fail(member(path, key), "not with \"matrix\": give one or the other");
+            const std::string mpath = member(path, "matrix");
+            if (!v->is_array() || v->size() != 16) fail(mpath, "must be an array of 16 numbers (row-major), got " + describe(*v));
+            Matrix4d m{};
+            for (std::size_t i = 0; i < 16; ++i) m[i] = number((*v)[i], element(mpath, i));
+            check("matrix", matrix_problem(m));
+            return MeshTransform::from_matrix(m);
+        }
+        if (auto* v = optional(j, "translate")) t.translate = vec3(*v, member(path, "translate")), check("translate", translate_problem(t.translate));
+        if (auto* v = optional(j, "rotate_deg")) t.rotate_deg = vec3(*v, member(path, "rotate_deg")), check("rotate_deg", rotate_deg_problem(t.rotate_deg));
+        if (auto* v = optional(j, "scale")) t.scale = number(*v, member(path, "scale")), check("scale", scale_problem(t.scale));
+        return t;
+    }
+
+    std::vector<Object> objects(const Json& j, const std::string& path, const std::vector<Material>& mats,
+                                std::vector<Mesh>& meshes, SourceMap& source) const {
         if (!j.is_array()) fail(path, "must be an array, got " + describe(j));
         static const std::vector<Names> fields{
             {"type", "center", "radius", "material"},         {"type", "point", "normal", "material"},
@@ -292,11 +343,20 @@ public:
         for (std::size_t i = 0; i < j.size(); ++i) {
             const Json& o = j[i];
             const std::string opath = element(path, i);
-            const auto type = static_cast<PrimitiveType>(type_of(o, opath, "object", names_of(kPrimitiveTypeNames)));
-            const std::string what = std::string("a ") + primitive_type_name(type);
-            reject_unknown(o, opath, what, fields[static_cast<std::size_t>(type)]);
+            Names types = names_of(kPrimitiveTypeNames);
+            types.push_back("mesh");
+            const std::size_t type_index = type_of(o, opath, "object", types);
+            const bool is_mesh = type_index == std::size_t(kPrimitiveTypeCount);
+            const auto type = static_cast<PrimitiveType>(is_mesh ? 0 : type_index);
+            const std::string what = is_mesh ? std::string("a mesh") : std::string("a ") + primitive_type_name(type);
             Object obj;
-            obj.shape = shape(o, opath, type);
+            Mesh m;
+            if (is_mesh) {
+                m = mesh(o, opath);
+            } else {
+                reject_unknown(o, opath, what, fields[static_cast<std::size_t>(type)]);
+                obj.shape = shape(o, opath, type);
+            }
             const std::string mpath = member(opath, "material");
             const std::string name = string(required(o, opath, "material", what), mpath);
             auto it = std::find(material_names.begin(), material_names.end(), name);
@@ -305,6 +365,12 @@ public:
                                 (material_names.empty() ? std::string("no materials are defined")
                                                         : "defined: " + join(material_names)) +
                                 ")");
+            if (is_mesh) {
+                m.material = static_cast<int>(it - material_names.begin());
+                meshes.push_back(std::move(m));
+                source.mesh.push_back(i);
+                continue;
+            }
             obj.material = static_cast<int>(it - material_names.begin());
             out.push_back(std::move(obj));
         }
@@ -334,7 +400,7 @@ public:
         if (auto* v = optional(root, "ambient")) s.ambient = ambient(*v, "ambient");
         if (auto* v = optional(root, "lights")) lights(*v, "lights", s, source);
         s.materials = materials(required(root, "", "materials", "a scene"), "materials");
-        s.objects = objects(required(root, "", "objects", "a scene"), "objects", s.materials);
+        s.objects = objects(required(root, "", "objects", "a scene"), "objects", s.materials, s.meshes, source);
         if (auto* v = optional(root, "render")) s.render = render(*v, "render");
         // The values: the rules every scene meets, stated once (validate()).
         try {

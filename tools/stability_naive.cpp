@@ -140,6 +140,7 @@ int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
         hp.t[i] = hit ? best : std::numeric_limits<float>::infinity();
         hp.primitive[i] = hit ? int(s.object_of[std::size_t(cid)]) : -1;
         hp.material[i] = hit ? int(s.material_of[std::size_t(cid)]) : -1;
+        hp.mesh[i] = hit ? int(s.mesh_of[std::size_t(cid)]) : -1;
         hp.nx[i] = hit ? n.x : 0, hp.ny[i] = hit ? n.y : 0, hp.nz[i] = hit ? n.z : 0;
         hp.hit[i] = hit ? -1 : 0;
     }

@@ -20,7 +20,7 @@ namespace {
 // Radiance of a hit with every light at n.l = 1 and unshadowed: the scale
 // against which float rounding of n.l is an absolute error.
 Vec3d full_light_scale(const Scene& scene, const reference::Hit& hit) {
-    const Material& m = scene.materials[std::size_t(scene.objects[std::size_t(hit.object)].material)];
+    const Material& m = scene.materials[std::size_t(reference::primitive_material(scene, hit.object))];
     Vec3d e;
     for (const DirectionalLight& l : scene.directional_lights) e += l.color * l.ls;
     for (const PointLight& l : scene.point_lights) {

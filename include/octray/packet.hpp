@@ -26,11 +26,12 @@ template <int W = kPacketWidth>
 struct alignas(32) HitPacket {
     static constexpr int width = W;
     alignas(32) float t[W];                 // hit distance along d (in units of |d|)
-    alignas(32) std::int32_t primitive[W];  // Scene::objects index, -1 on a miss
+    alignas(32) std::int32_t primitive[W];  // primitive id (scene.hpp: objects, then mesh triangles), -1 on a miss
     alignas(32) std::int32_t material[W];   // Scene::materials index, -1 on a miss
     alignas(32) float nx[W], ny[W], nz[W];  // unit normal facing the ray (n.d <= 0)
     alignas(32) std::int32_t hit[W];        // -1 where the lane hit something, else 0
     alignas(32) std::int32_t invalid[W];    // -1 where an active lane was masked off for bad input
+    alignas(32) std::int32_t mesh[W];       // Scene::meshes index of a hit mesh triangle, else -1
 };
 
 template <int W = kPacketWidth>

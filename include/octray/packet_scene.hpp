@@ -36,7 +36,8 @@ class PacketScene {
 };
 
 // Compiles a scene. Throws std::invalid_argument when validate() rejects it or
-// it has 2^24 or more primitives or materials (indices travel as exact floats).
+// it has 2^24 or more primitives (objects and mesh triangles) or materials
+// (ids travel as exact floats).
 PacketScene compile(const Scene& scene);
 
 }  // namespace octray

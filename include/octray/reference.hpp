@@ -29,9 +29,31 @@ std::optional<double> intersect(const Shape& shape, const Ray& ray, double tmin,
 // Geometric (not face-forwarded) unit normal of `shape` at surface point p.
 Vec3d geometric_normal(const Shape& shape, const Vec3d& p);
 
+// Triangle k of a mesh, in double as authored.
+inline Triangle mesh_triangle(const Mesh& m, std::size_t k) {
+    return {m.vertices[m.indices[3 * k]], m.vertices[m.indices[3 * k + 1]], m.vertices[m.indices[3 * k + 2]]};
+}
+
+// Calls fn(id, shape) for every primitive in id order (objects, then each
+// mesh's triangles; scene.hpp) until fn returns true; returns whether it did.
+template <class Fn>
+bool for_each_primitive(const Scene& scene, Fn&& fn) {
+    int id = 0;
+    for (const Object& o : scene.objects)
+        if (fn(id++, o.shape)) return true;
+    for (const Mesh& m : scene.meshes)
+        for (std::size_t k = 0; k < m.triangle_count(); ++k)
+            if (fn(id++, Shape{mesh_triangle(m, k)})) return true;
+    return false;
+}
+
+// The shape and material of primitive `id` (objects, then mesh triangles).
+Shape primitive_shape(const Scene& scene, int id);
+int primitive_material(const Scene& scene, int id);
+
 struct Hit {
     double t = 0;
-    int object = -1;  // index into Scene::objects; -1 = miss
+    int object = -1;  // primitive id (objects, then mesh triangles; scene.hpp); -1 = miss
     Vec3d point;
     Vec3d normal;     // unit, faces the incoming ray (n.d <= 0)
 };

@@ -17,6 +17,8 @@
 #include <octray/vec3.hpp>
 
 #include <cstddef>
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -99,6 +101,18 @@ struct Object {
     int material = 0;  // index into Scene::materials
 };
 
+// A triangle mesh (DESIGN.md, meshes): shared vertices and 32-bit indices,
+// three per triangle, each < vertices.size(); every triangle is one primitive
+// of PrimitiveType::triangle, with the watertight test of a single triangle.
+// No zero-area triangle (the model loader drops and counts them).
+struct Mesh {
+    std::vector<Vec3d> vertices;
+    std::vector<std::uint32_t> indices;
+    int material = 0;                    // index into Scene::materials
+    std::size_t dropped_degenerate = 0;  // zero-area triangles the loader left out (information only)
+    std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
 enum class ToneMap { max_to_one, clamp_to_color, saturate };
 inline constexpr const char* kToneMapNames[] = {"max_to_one", "clamp_to_color", "saturate"};
 inline constexpr const char* tonemap_name(ToneMap t) { return kToneMapNames[static_cast<int>(t)]; }
@@ -116,8 +130,17 @@ struct Scene {
     std::vector<DirectionalLight> directional_lights;
     std::vector<PointLight> point_lights;
     std::vector<Material> materials;
-    std::vector<Object> objects;  // primitive index = position here
+    std::vector<Object> objects;  // primitive id = position here
+    // Mesh triangles' primitive ids follow the objects': objects.size() +
+    // the triangle's position in the meshes' triangles, mesh after mesh.
+    std::vector<Mesh> meshes;
     RenderSettings render;
+
+    std::size_t mesh_triangle_count() const {
+        std::size_t n = 0;
+        for (const Mesh& m : meshes) n += m.triangle_count();
+        return n;
+    }
 };
 
 // The unit vector along a scene direction, v / |v|: the one normalization
