@@ -16,8 +16,8 @@ namespace octray::bench {
 
 // =============================================================================
 // FLOPs per ray, counted by hand from kernels/packet_kernels.hpp (recounted
-// for the robust sphere and Woop triangle of issue 6 and the early-out of
-// dbbddaf). A kernel change that adds or removes arithmetic must update the
+// for the robust sphere and Woop triangle and the sphere test's early-out).
+// A kernel change that adds or removes arithmetic must update the
 // counts below (kTestFlops, kNormalFlops, kIntersectSetup, the shade, tone-map
 // and camera functions), or GFLOP/s and % of peak go wrong.
 //

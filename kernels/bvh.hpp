@@ -157,7 +157,7 @@ struct BuildOptions {
     // At most this many primitives a leaf (1..255). A larger node is always
     // split; a smaller one becomes a leaf where SAH prefers it.
     int max_leaf_size = 8;
-    int bins = 16;  // SAH bins per axis (2..64); 8 and 32 gave the same SAH cost within 1%
+    int bins = 16;  // SAH bins per axis (2..64); 8 and 32 gave about the same SAH cost (docs/performance.md)
     // SAH costs, per binary node visited and per primitive tested. A wide
     // node is 8 child slab tests standing for ~3 binary levels.
     float traversal_cost = 2.0f;

@@ -38,11 +38,8 @@
 //     the lanes of each direction octant walk as a packet of their own; both
 //     for float lanes only (double lanes always walk as one packet: f64 is a
 //     checking mode, its node tests stay in double).
-//     Measured (bench_bvh, 8 float lanes, load-noisy VM, ms per 65k rays):
-//     camera rays 8.6 (never single) / 9.9 (<= 2 lanes) / 13.6 (always);
-//     random chords 83 / 66 / 65; octants whole instead of split: camera
-//     9.6, random 86; children in slot order instead of nearest first:
-//     camera 35, random 67.
+//     The thresholds and orders were chosen by bench/bench_bvh.cpp
+//     (docs/performance.md has the measurements).
 //
 // Filling the view from the kernels' Ray<T, P> (packet_kernels.hpp):
 //   const auto view = bvh::make_ray_view(r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tmin);

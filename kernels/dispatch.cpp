@@ -79,8 +79,8 @@ std::string Kernel::name() const {
 namespace {
 
 // The first n pixels of a packet, SoA, to interleaved RGB at dst. A full
-// packet goes through SSE shuffles (this runs once per packet on every path:
-// element by element it was ~14% of the SIMD path's instructions).
+// packet goes through SSE shuffles (this runs once per packet on every path,
+// and element by element it was a large share of the SIMD path's work).
 void interleave_rgb(const ColorPacket8& c, int n, float* dst) {
 #if defined(__SSE2__)
     if (n == kPacketWidth) {
