@@ -3,6 +3,11 @@
 
 #include <doctest/doctest.h>
 
+#include "scene_loader.hpp"
+#include "verify.hpp"
+
+#include <octray/packet_scene.hpp>
+
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -20,4 +25,17 @@ inline std::vector<std::string> scene_files() {
     std::sort(files.begin(), files.end());
     REQUIRE_MESSAGE(!files.empty(), "no *.json scenes in " << dir);
     return files;
+}
+
+// Calls fn(scene, packet, reference) for every scene of scenes/, loaded,
+// compiled and rendered by the reference, with the file name captured.
+template <class Fn>
+void for_each_scene_file(Fn&& fn) {
+    for (const std::string& file : scene_files()) {
+        CAPTURE(file);
+        const octray::Scene scene = octray::load_scene(file);
+        const octray::PacketScene packet = octray::compile(scene);
+        const octray::ReferenceRender reference = octray::render_reference(scene);
+        fn(scene, packet, reference);
+    }
 }

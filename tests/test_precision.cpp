@@ -364,13 +364,7 @@ TEST_CASE("normalize and n.l stay within their stated bounds") {
 }
 
 TEST_CASE("end to end: every scene renders within each mode's stated bound on every unit") {
-    const std::vector<std::string> files = scene_files();
-    REQUIRE(!files.empty());
-    for (const std::string& file : files) {
-        CAPTURE(file);
-        const Scene scene = load_scene(file);
-        const PacketScene packet = compile(scene);
-        const ReferenceRender ref = render_reference(scene);
+    for_each_scene_file([&](const Scene& scene, const PacketScene& packet, const ReferenceRender& ref) {
         const double kappa = scene_condition(scene);
         const ReferenceHits hits = reference_hits(scene);
         for_each_unit_mode([&](const kernels::Unit& u, Precision p) {
@@ -391,7 +385,7 @@ TEST_CASE("end to end: every scene renders within each mode's stated bound on ev
                     if (edge[std::size_t(j) * std::size_t(scene.camera.width) + std::size_t(i)] != 0)
                         for (int ch = 0; ch < 3; ++ch) out.radiance.pixel(i, j)[ch] = float(ref.radiance.pixel(i, j)[ch]);
             const Agreement a = compare(ref, out.radiance, out.primitive);
-            MESSAGE(file << " " << unit_name(u, p) << ": max L/S " << a.max_scaled << " (bound "
+            MESSAGE(unit_name(u, p) << ": max L/S " << a.max_scaled << " (bound "
                          << end_to_end_bound(p) * kappa << ", kappa " << kappa << "), mismatched " << a.mismatched
                          << " of " << a.lanes << ", edge lanes " << edges << ", max L/S with them " << all.max_scaled);
             // Known gap (docs/accuracy.md): the raw-estimate modes' shadow rays
@@ -403,7 +397,7 @@ TEST_CASE("end to end: every scene renders within each mode's stated bound on ev
             if (known_gap) MESSAGE("known gap, not checked: " << precision_name(p) << ", shadows on meshes, max L/S " << a.max_scaled);
             else CHECK(a.max_scaled <= end_to_end_bound(p) * kappa);
         });
-    }
+    });
 }
 
 TEST_CASE("the Pareto front keeps exactly the points no other point beats in both time and error") {

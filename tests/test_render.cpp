@@ -19,13 +19,7 @@ using namespace octray::test;
 
 TEST_CASE("every scene in scenes/ agrees with the reference on the scalar and SIMD paths, on every ISA") {
     const Tolerance tol;
-    const std::vector<std::string> files = scene_files();
-    REQUIRE(!files.empty());
-    for (const std::string& file : files) {
-        CAPTURE(file);
-        const Scene scene = load_scene(file);
-        const PacketScene packet = compile(scene);
-        const ReferenceRender ref = render_reference(scene);
+    for_each_scene_file([&](const Scene&, const PacketScene& packet, const ReferenceRender& ref) {
         std::vector<PacketRender> renders;
         for (Isa isa : simd_isas()) {
             for (Path path : {Path::scalar, Path::simd}) {
@@ -48,5 +42,5 @@ TEST_CASE("every scene in scenes/ agrees with the reference on the scalar and SI
             CHECK(renders[0].radiance.rgb == renders[i].radiance.rgb);
             CHECK(renders[0].primitive == renders[i].primitive);
         }
-    }
+    });
 }
