@@ -166,3 +166,31 @@ TEST_CASE("a scene without objects traces to misses and background (found by the
         }
     }
 }
+
+TEST_CASE("shadow rays from a hit point that overflows float (found by the garbage-ray test)") {
+    // With tmin = -inf the ray meets the plane y = -1 behind its origin, at
+    // t = -2^70, a finite t, but the hit point's x = 2^62 * -2^70 overflows
+    // to -inf. The shadow ray's offset max(|p| 1e-4, (|p| + t |d|) ...) is
+    // max(inf, NaN) = NaN, so its origin is NaN: every slab term of the BVH
+    // walk is NaN and dropped, every child "entered", and the single-ray
+    // walk pushed the unused slots' kEmptySlot too: leaf number INT32_MAX,
+    // a crash (the packet walk skips unused slots).
+    Scene s;
+    s.materials.push_back(Material{"m", 0.25, 0.65, {1, 1, 1}});
+    s.objects.push_back(Object{Plane{{0, -1, 0}, {0, 1, 0}}, 0});
+    s.objects.push_back(Object{Sphere{{0, 0, 0}, 1}, 0});
+    s.objects.push_back(Object{Box{{2, -1, -1}, {3, 0, 1}}, 0});
+    s.directional_lights.push_back({{0.6, -0.8, 0}, {1, 1, 1}, 1, true});  // lights the plane's underside
+    const PacketScene ps = compile(s);
+    const SceneFacts facts = scene_facts(s);
+    RayPacket8 r{};
+    for (int i = 0; i < kPacketWidth; ++i) {
+        r.oz[i] = float(i), r.dx[i] = 0x1p62f, r.dy[i] = 0x1p-70f, r.tmin[i] = -INFINITY, r.tmax[i] = INFINITY;
+        r.active[i] = i < 2 ? 1 : 0;  // two lanes: the packet walk hands them to the single-ray walk
+    }
+    ColorPacket8 colours{};
+    for (const Kernel& k : every_kernel(ps.features().bits)) {
+        CAPTURE(k.name());
+        CHECK(run_and_check(k, ps, facts, r, colours) == "");
+    }
+}
