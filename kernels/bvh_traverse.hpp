@@ -187,7 +187,10 @@ inline unsigned enter_children(const Node8& node, const SingleRay& r, float limi
         enter.store_aligned(entry + i);
         bits |= lane::bits(enter <= grow(leave)) << i;
     }
-    return bits;
+    // Unused slots have empty bounds, which no slab test enters, except a ray
+    // whose every slab term is NaN and dropped (a NaN origin: a shadow ray
+    // from a hit point that overflowed): never hand out their kEmptySlot.
+    return bits & ((1u << node.child_count()) - 1u);
 }
 
 template <class T>

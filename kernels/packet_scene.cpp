@@ -231,6 +231,11 @@ PacketScene compile(const Scene& scene) {
     pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
     auto& t = s.triangles;
     pad(t.vx, t.vy, t.vz, t.nx, t.ny, t.nz);
+    if (total == 0) {  // keep the miss lanes' id lookups in bounds for an object-free scene
+        s.object_of.push_back(0.0f);
+        s.material_of.push_back(0.0f);
+        s.mesh_of.push_back(-1.0f);
+    }
     pad(s.object_of, s.material_of, s.mesh_of);
 
     for (const DirectionalLight& l : scene.directional_lights) {

@@ -110,6 +110,14 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
         r.tmax = lane::keep(r.valid, r.tmax);  // empty interval: no hit can be accepted
         dd = lane::select(r.valid, dd, T(1));
     }
+    // Double lanes (Precision::f64) answer in float: a hit at |t| beyond the
+    // largest float would come out as t = +-inf, so it is a miss, as in the
+    // float modes, where such a t overflows to +-inf and fails tmin < t < tmax.
+    if constexpr (std::is_same_v<lane::Scalar<T>, double>) {
+        const T largest(std::numeric_limits<float>::max());
+        r.tmin = lane::max(r.tmin, T(0) - largest);
+        r.tmax = lane::min(r.tmax, largest);
+    }
     finish_ray(r, dd);
     return r;
 }

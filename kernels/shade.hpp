@@ -66,7 +66,8 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
                     lane::keep(hit, lane::fma(d.z, t, o.z))};
     const Vec3<T> n{load<T>(hp.nx, lane), load<T>(hp.ny, lane), load<T>(hp.nz, lane)};
     const T m = lane::keep(hit, load_index<T>(hp.material, lane));
-    [[maybe_unused]] const T reach = t * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
+    // |t|: with tmin < 0 a hit may lie behind the origin (t < 0).
+    [[maybe_unused]] const T reach = lane::abs(t) * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
 
     Vec3<T> e{T(0), T(0), T(0)};  // sum over lights of ls*cl * n.l [/ r^2]
     if constexpr ((F & kDirectional) != 0) {
