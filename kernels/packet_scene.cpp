@@ -133,6 +133,7 @@ PacketScene compile(const Scene& scene) {
     for (int t = 1; t < kPrimitiveTypeCount; ++t) s.offset[std::size_t(t)] = s.offset[std::size_t(t - 1)] + s.count[std::size_t(t - 1)];
 
     s.object_of.resize(scene.objects.size());
+    s.compiled_of.resize(scene.objects.size());
     s.material_of.resize(scene.objects.size());
     std::array<int, kPrimitiveTypeCount> next = s.offset;
     std::array<std::vector<Bound>, kPrimitiveTypeCount> bounds;
@@ -140,6 +141,7 @@ PacketScene compile(const Scene& scene) {
         const Object& o = scene.objects[i];
         const int cid = next[std::size_t(primitive_type(o.shape))]++;
         s.object_of[std::size_t(cid)] = float(i);
+        s.compiled_of[i] = float(cid);
         s.material_of[std::size_t(cid)] = float(o.material);
         if (const auto b = bound_of(o.shape)) bounds[std::size_t(primitive_type(o.shape))].push_back(*b);
         std::visit(
@@ -194,7 +196,7 @@ PacketScene compile(const Scene& scene) {
     pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
     auto& t = s.triangles;
     pad(t.vx, t.vy, t.vz, t.nx, t.ny, t.nz);
-    pad(s.object_of, s.material_of);
+    pad(s.object_of, s.material_of, s.compiled_of);
 
     for (const DirectionalLight& l : scene.directional_lights) {
         auto& a = s.directional;

@@ -61,6 +61,7 @@ struct SceneData {
     BoxArrays boxes;
     TriangleArrays triangles;
     Floats object_of;    // compiled id -> Scene::objects index (exact in float below 2^24)
+    Floats compiled_of;  // Scene::objects index -> compiled id (shading finds a sphere hit's centre)
     Floats material_of;  // compiled id -> Scene::materials index
 
     int directional_count = 0, point_count = 0, point_attenuated_count = 0;
