@@ -71,12 +71,13 @@ int intersect_spheres(const PacketScene& scene, const RayPacket8& rp, HitPacket8
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<true, kSphere>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
-        best.take(hit, t, k);
+        M near;
+        const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit,
+                                     best.t, near);
+        best.take(hit, t, k, near);
     });
     const Lookup<T> at = hit_lookup(best);
-    const Vec3<T> p = r.o + r.d * best.t;
-    store_hit(s, r, best, (p - at(a.cx, a.cy, a.cz)) * at(a.inv_radius), hp);
+    store_hit(s, r, best, sphere_normal(r, at(a.cx, a.cy, a.cz), at(a.radius), at(a.inv_radius), best.near), hp);
     return masked;
 }
 
@@ -107,8 +108,10 @@ int intersect_spheres_planes(const PacketScene& scene, const RayPacket8& rp, Hit
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<true, kSphere>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, best.t);
-        best.take(hit, t, k);
+        M near;
+        const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit,
+                                     best.t, near);
+        best.take(hit, t, k, near);
     });
     for (int k = 0; k < s.count[1]; ++k) {
         M hit;
@@ -120,8 +123,7 @@ int intersect_spheres_planes(const PacketScene& scene, const RayPacket8& rp, Hit
     const M is_plane = cid >= T(float(s.offset[1]));
     const Lookup<T> sphere_at(lane::select(is_sphere, cid, T(0)), is_sphere);
     const Lookup<T> plane_at(lane::select(is_plane, cid - T(float(s.offset[1])), T(0)), is_plane);
-    const Vec3<T> p = r.o + r.d * best.t;
-    const Vec3<T> ns = (p - sphere_at(a.cx, a.cy, a.cz)) * sphere_at(a.inv_radius);
+    const Vec3<T> ns = sphere_normal(r, sphere_at(a.cx, a.cy, a.cz), sphere_at(a.radius), sphere_at(a.inv_radius), best.near);
     const Vec3<T> np = plane_at(b.nx, b.ny, b.nz);
     store_hit(s, r, best,
               {lane::select(is_sphere, ns.x, np.x), lane::select(is_sphere, ns.y, np.y), lane::select(is_sphere, ns.z, np.z)},

@@ -17,12 +17,20 @@ template <class T>
 struct Closest {
     T t;    // tmax until something is hit
     T cid;  // compiled id of the hit primitive (exact float), -1 on a miss
+    Mask<T> near = Mask<T>(true);  // a sphere's hit: the near root (sphere_hit), for sphere_normal
 
     // Keeps the lanes of `hit` (a test accepted them for t' < t) at t' and id.
     OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id) {
         if (!lane::any(hit)) return;  // most tests miss on every lane
         t = lane::select(hit, t_hit, t);
         cid = lane::select(hit, T(float(id)), cid);
+    }
+    // A sphere's hit, with its root.
+    OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id, const Mask<T>& near_hit) {
+        if (!lane::any(hit)) return;
+        t = lane::select(hit, t_hit, t);
+        cid = lane::select(hit, T(float(id)), cid);
+        near = (hit && near_hit) || (lane::not_(hit) && near);
     }
 };
 
@@ -44,12 +52,20 @@ OCTRAY_HOT Vec3<T> triangle_vertex(const TriangleArrays& a, const std::vector<st
     return broadcast3<T>(a.vx, a.vy, a.vz, corner[std::size_t(k)]);
 }
 
+// Sphere k; `near`: which root is the hit (sphere_hit).
+template <class T, Precision P>
+OCTRAY_HOT T test_sphere(const SceneData& s, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest, Mask<T>& near) {
+    const SphereArrays& a = s.spheres;
+    return intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, tbest,
+                            near);
+}
+
 // Tests primitive k of type `Type` (parameters broadcast from the scene arrays).
 template <PrimitiveType Type, class T, Precision P>
 OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
     if constexpr (Type == PrimitiveType::sphere) {
-        const SphereArrays& a = s.spheres;
-        return intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, tbest);
+        Mask<T> near;
+        return test_sphere(s, k, r, hit, tbest, near);
     } else if constexpr (Type == PrimitiveType::plane) {
         const PlaneArrays& a = s.planes;
         return intersect_plane(r, broadcast3<T>(a.px, a.py, a.pz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
@@ -87,20 +103,28 @@ inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
     for_each_candidate<true, F>(s, r, r.valid, best.t, [&](auto tag, int k) OCTRAY_HOT_LAMBDA {
         constexpr PrimitiveType type = decltype(tag)::value;
         Mask<T> hit;
-        const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
-        best.take(hit, t, s.offset[int(type)] + k);
+        if constexpr (type == PrimitiveType::sphere) {
+            Mask<T> near;
+            const T t = test_sphere(s, k, r, hit, best.t, near);
+            best.take(hit, t, s.offset[int(type)] + k, near);
+        } else {
+            const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
+            best.take(hit, t, s.offset[int(type)] + k);
+        }
     });
     return best;
 }
 
-// Unit geometric normal of a primitive of type `Type` at p, its data read
-// through `at` (the lanes' indices within the type). `d` (the ray direction)
-// breaks ties on box edges.
-template <PrimitiveType Type, class T>
-inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Vec3<T>& p, const Vec3<T>& d) {
+// Unit geometric normal of a primitive of type `Type` at the closest hit
+// `best` of ray r (p = o + t d), its data read through `at` (the lanes'
+// indices within the type). A sphere's comes from its own frame
+// (sphere_normal), not from p; the ray direction breaks ties on box edges.
+template <PrimitiveType Type, class T, Precision P>
+inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, P>& r, const Closest<T>& best,
+                           const Vec3<T>& p) {
     if constexpr (Type == PrimitiveType::sphere) {
         const SphereArrays& a = s.spheres;
-        return (p - at(a.cx, a.cy, a.cz)) * at(a.inv_radius);
+        return sphere_normal(r, at(a.cx, a.cy, a.cz), at(a.radius), at(a.inv_radius), best.near);
     } else if constexpr (Type == PrimitiveType::plane) {
         return at(s.planes.nx, s.planes.ny, s.planes.nz);
     } else if constexpr (Type == PrimitiveType::disk) {
@@ -118,7 +142,7 @@ inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Vec3<T
         const Vec3<T> c = (lo + hi) * T(0.5f), h = (hi - lo) * T(0.5f);
         const Vec3<T> q = p - c;
         const T rx = lane::abs(q.x) / h.x, ry = lane::abs(q.y) / h.y, rz = lane::abs(q.z) / h.z;
-        const T dx = lane::abs(d.x), dy = lane::abs(d.y), dz = lane::abs(d.z);
+        const T dx = lane::abs(r.d.x), dy = lane::abs(r.d.y), dz = lane::abs(r.d.z);
         const Mask<T> ax = (rx > ry || (rx == ry && dx >= dy)) && (rx > rz || (rx == rz && dx >= dz));
         const Mask<T> ay = lane::not_(ax) && (ry > rz || (ry == rz && dy >= dz)), az = lane::not_(ax || ay);
         return {lane::keep(ax, lane::copysign(T(1), q.x)), lane::keep(ay, lane::copysign(T(1), q.y)),
@@ -128,15 +152,16 @@ inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Vec3<T
     }
 }
 
-// Unit geometric normal at p for the lanes of `hit`, whose hits' compiled ids
-// `at` looks up (at.idx; the caller's id stores share the lookup); other
-// lanes get an unspecified normal (the caller drops them).
+// Unit geometric normal at the closest hit `best` of r (p = o + t d) for the
+// lanes of `hit`, whose hits' compiled ids `at` looks up (at.idx; the
+// caller's id stores share the lookup); other lanes get an unspecified normal
+// (the caller drops them).
 // A coherent packet's hit lanes mostly share one primitive: then only that
 // type's normal is computed, from its broadcast data; else each type present
 // computes its lanes' normals from gathered data.
-template <class T, unsigned F>
-inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Vec3<T>& p, const Mask<T>& hit,
-                          const Vec3<T>& d) {
+template <class T, Precision P, unsigned F>
+inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, P>& r, const Closest<T>& best,
+                          const Vec3<T>& p, const Mask<T>& hit) {
     Vec3<T> n{T(0), T(0), T(1)};
     if (!lane::any(hit)) return n;
     if (at.uniform) {
@@ -145,7 +170,7 @@ inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Vec3<T>
             constexpr PrimitiveType type = decltype(tag)::value;
             const int base = s.offset[int(type)];
             if (shared >= base && shared < base + count)
-                n = type_normal<type>(s, Lookup<T>::at_index(shared - base), p, d);
+                n = type_normal<type>(s, Lookup<T>::at_index(shared - base), r, best, p);
         });
         return n;
     }
@@ -155,7 +180,7 @@ inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Vec3<T>
         const int base = s.offset[int(type)];
         const Mask<T> mine = hit && cid >= T(float(base)) && cid < T(float(base + count));
         if (count == 0 || !lane::any(mine)) return;
-        const Vec3<T> m = type_normal<type>(s, Lookup<T>(lane::keep(mine, cid - T(float(base))), mine), p, d);
+        const Vec3<T> m = type_normal<type>(s, Lookup<T>(lane::keep(mine, cid - T(float(base))), mine), r, best, p);
         n = {lane::select(mine, m.x, n.x), lane::select(mine, m.y, n.y), lane::select(mine, m.z, n.z)};
     });
     return n;
@@ -170,7 +195,7 @@ inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8&
     const T cid = lane::keep(hit, best.cid);
     const Vec3<T> p = r.o + r.d * best.t;
     const Lookup<T> at(cid, hit);
-    Vec3<T> n = hit_normal<T, F>(s, at, p, hit, r.d);
+    Vec3<T> n = hit_normal<T, P, F>(s, at, r, best, p, hit);
     // Face-forward (two-sided shading): the normal opposes the ray.
     const Mask<T> away = fdot(n, r.d) > T(0);
     n = {lane::select(away, T(0) - n.x, n.x), lane::select(away, T(0) - n.y, n.y), lane::select(away, T(0) - n.z, n.z)};

@@ -197,6 +197,7 @@ PacketScene compile(const Scene& scene) {
     s.object_of.resize(total);
     s.material_of.resize(total);
     s.mesh_of.assign(total, -1.0f);
+    s.compiled_of.resize(total);
     for (int type = 0; type < kPrimitiveTypeCount; ++type) {
         const std::vector<std::size_t>& ids = of_type[std::size_t(type)];
         for (std::size_t pos = 0; pos < ids.size(); ++pos) {
@@ -204,6 +205,7 @@ PacketScene compile(const Scene& scene) {
             const std::size_t i = ids[planes ? pos : s.bvh.order[std::size_t(type)][pos]];
             const std::size_t cid = std::size_t(s.offset[std::size_t(type)]) + pos;
             s.object_of[cid] = float(i);
+            s.compiled_of[i] = float(cid);
             if (i < object_count) {
                 s.material_of[cid] = float(scene.objects[i].material);
                 append_primitive(s, scene.objects[i].shape);
@@ -235,8 +237,9 @@ PacketScene compile(const Scene& scene) {
         s.object_of.push_back(0.0f);
         s.material_of.push_back(0.0f);
         s.mesh_of.push_back(-1.0f);
+        s.compiled_of.push_back(0.0f);
     }
-    pad(s.object_of, s.material_of, s.mesh_of);
+    pad(s.object_of, s.material_of, s.mesh_of, s.compiled_of);
 
     for (const DirectionalLight& l : scene.directional_lights) {
         auto& a = s.directional;

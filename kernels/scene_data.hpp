@@ -63,6 +63,7 @@ struct SceneData {
     TriangleArrays triangles;
     Floats object_of;    // compiled id -> primitive id (scene.hpp; exact in float below 2^24)
     Floats mesh_of;      // compiled id -> Scene::meshes index, -1 for an object
+    Floats compiled_of;  // primitive id -> compiled id (shading finds a sphere hit's centre)
     Floats material_of;  // compiled id -> Scene::materials index
 
     int directional_count = 0, point_count = 0, point_attenuated_count = 0;

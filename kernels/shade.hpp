@@ -8,11 +8,38 @@
 namespace octray::kernels::OCTRAY_ISA {
 
 // ---- shading (seed eq. 7-8) ------------------------------------------------
+// The point a hit is shaded at: p = o + t d carries t's error, a few u t
+// along d (`reach` = t max|d_i|). A sphere's hit is c + r n_geo instead
+// where the sphere is smaller than that distance (r < reach): its normal came
+// from the sphere's frame (sphere_normal), so that point is off by a few u r
+// plus the rounding of c + r n, whatever the distance. (A sphere seen from
+// closer than its radius, a planet from above, keeps o + t d: there r n
+// would scale the normal's few u by r.) n faces the ray, n_geo = +-n: the
+// sign is that of (p - c).n with the approximate p, whose error (~u t) is far
+// below r unless t/r passes ~1e6; where |(p - c).n| < r/2 the lane keeps
+// o + t d. Returns the lanes whose point came from the sphere.
+template <class T>
+inline Mask<T> sphere_surface_point(const SceneData& s, const T& object, const Mask<T>& hit, const Vec3<T>& o,
+                                    const Vec3<T>& d, const T& t, const T& reach, const Vec3<T>& n, Vec3<T>& p) {
+    const T cid = Lookup<T>(lane::keep(hit, object), hit)(s.compiled_of);
+    const Mask<T> sphere = hit && cid < T(float(s.count[0]));  // spheres are compiled first
+    if (!lane::any(sphere)) return sphere;
+    const Lookup<T> at(lane::keep(sphere, cid), sphere);
+    const Vec3<T> c = at(s.spheres.cx, s.spheres.cy, s.spheres.cz);
+    const T radius = at(s.spheres.radius);
+    const Vec3<T> f = o - c;
+    const T side = fdot(Vec3<T>{lane::fma(d.x, t, f.x), lane::fma(d.y, t, f.y), lane::fma(d.z, t, f.z)}, n);
+    const Mask<T> sure = sphere && radius < reach && lane::abs(side) > T(0.5f) * radius;
+    const Vec3<T> q = c + n * lane::with_sign_of(radius, side);
+    p = {lane::select(sure, q.x, p.x), lane::select(sure, q.y, p.y), lane::select(sure, q.z, p.z)};
+    return sure;
+}
+
 // Fills r with the shadow ray from p toward a light at distance `dist` along
 // unit `l`. The origin moves off the surface along the facing normal so the
 // surface does not shadow itself: by 1e-4 |p|, or by more than the hit point's error where the
 // precision mode's error over the camera ray's length `reach` (|p - o|, max
-// norm) is larger (precision.hpp, shadow_offset).
+// norm; 0 where p carries no t-sized error) is larger (precision.hpp, shadow_offset).
 template <class T, Precision P>
 inline void shadow_ray(Ray<T, P>& r, const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist,
                        const Mask<T>& valid, const T& reach) {
@@ -62,12 +89,18 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     const Vec3<T> o{load<T>(rp.ox, lane), load<T>(rp.oy, lane), load<T>(rp.oz, lane)};
     const Vec3<T> d{load<T>(rp.dx, lane), load<T>(rp.dy, lane), load<T>(rp.dz, lane)};
     const T t = lane::keep(hit, load<T>(hp.t, lane));
-    const Vec3<T> p{lane::keep(hit, lane::fma(d.x, t, o.x)), lane::keep(hit, lane::fma(d.y, t, o.y)),
-                    lane::keep(hit, lane::fma(d.z, t, o.z))};
+    Vec3<T> p{lane::keep(hit, lane::fma(d.x, t, o.x)), lane::keep(hit, lane::fma(d.y, t, o.y)),
+              lane::keep(hit, lane::fma(d.z, t, o.z))};
     const Vec3<T> n{load<T>(hp.nx, lane), load<T>(hp.ny, lane), load<T>(hp.nz, lane)};
     const T m = lane::keep(hit, load_index<T>(hp.material, lane));
     // |t|: with tmin < 0 a hit may lie behind the origin (t < 0).
-    [[maybe_unused]] const T reach = lane::abs(t) * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
+    [[maybe_unused]] T reach = lane::abs(t) * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
+    // Point lights and shadow rays use p: a small sphere's from its frame.
+    if constexpr ((F & kSphere) != 0 && (F & (kPoint | kPointAttenuated | kShadows)) != 0) {
+        if (lane::any(hit))
+            reach = lane::keep(
+                lane::not_(sphere_surface_point(s, load_index<T>(hp.primitive, lane), hit, o, d, t, reach, n, p)), reach);
+    }
 
     Vec3<T> e{T(0), T(0), T(0)};  // sum over lights of ls*cl * n.l [/ r^2]
     if constexpr ((F & kDirectional) != 0) {

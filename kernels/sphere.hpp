@@ -117,16 +117,26 @@ OCTRAY_COLD SphereRoots<T> sphere_roots_scaled(const Ray<T, P>& r, const Vec3<T>
 // 2^72 — a power of two, so the scaling is exact and t = 2^72 t'. The branch
 // is taken only by packets that need it; a root beyond the float range is +inf
 // and misses.
+// `near` says which root is the hit: the near one (the ray enters the sphere
+// there), else the far one (it leaves: an origin inside, or tmin past the
+// entry); sphere_normal needs it, and only this choice knows it for sure.
 template <class T, Precision P>
-OCTRAY_HOT T sphere_hit(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, Mask<T>& hit, const T& tbest) {
+OCTRAY_HOT T sphere_hit(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, Mask<T>& hit, const T& tbest,
+                        Mask<T>& near) {
     const T r2 = radius * radius;
     SphereRoots<T> s = sphere_roots(r, r.o - center, r2, radius);
     const Mask<T> huge = lane::not_(s.size2 <= T(0x1p100f));
     if (lane::any(huge)) s = sphere_roots_scaled(r, center, r2, radius, huge);
     const T tnear = lane::min(s.t0, s.t1), tfar = lane::max(s.t0, s.t1);
-    const T t = lane::select(tnear > r.tmin, tnear, tfar);
+    near = tnear > r.tmin;
+    const T t = lane::select(near, tnear, tfar);
     hit = s.disc >= T(0) && t > r.tmin && t < tbest;
     return t;
+}
+template <class T, Precision P>
+OCTRAY_HOT T sphere_hit(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, Mask<T>& hit, const T& tbest) {
+    Mask<T> near;
+    return sphere_hit(r, center, radius, hit, tbest, near);
 }
 
 // A sphere's radius as authored (SphereArrays::radius), to tell it from r^2.
@@ -140,8 +150,81 @@ struct SphereRadius {
 // moves the surface by 0.002, 0.2% of t from 1 unit above) loses nothing.
 template <class T, Precision P>
 OCTRAY_HOT T intersect_sphere(const Ray<T, P>& r, const Vec3<T>& center, const SphereRadius<T>& radius, Mask<T>& hit,
+                  const T& tbest, Mask<T>& near) {
+    return sphere_hit(r, center, radius.r, hit, tbest, near);
+}
+template <class T, Precision P>
+OCTRAY_HOT T intersect_sphere(const Ray<T, P>& r, const Vec3<T>& center, const SphereRadius<T>& radius, Mask<T>& hit,
                   const T& tbest) {
     return sphere_hit(r, center, radius.r, hit, tbest);
+}
+
+// ---- the hit in the sphere's frame (issue 16) ---------------------------------
+// p - c at the hit, from the ray's closest approach to the centre rather than
+// from p = o + t d: f = o - c exactly (fh + fl, TwoSum), the foot of the
+// perpendicular q = f - d (f.d)/(d.d), projected out along d a second time
+// ("twice is enough", Parlett & Kahan), then p - c = q -+ h d/|d| with
+// h = sqrt(r^2 - |q|^2) (minus at the near root). t carries an error of a
+// few u t (its float alone is u t / 2); q and h carry a few u r, whatever the
+// distance: the first projection leaves ~7u |f| along d, the second removes
+// it to ~5u |q|, and the components across d are each rounded once or twice
+// from their own size. h is as exact as |q|^2 is (~4.5u r^2), so h is off by
+// ~2.25u r^2 / h = 2.25u r / |n.d| along d: the one 1/|n.d| of the normal's
+// error, a perturbation of the ray by ~u r (precision.hpp derives the bound);
+// from an origin near the surface, h comes from b^2/a - c instead (below).
+// `o`, `c`, `radius`: the same scaling as sphere_roots_scaled, where used.
+template <class T, Precision P>
+inline Vec3<T> sphere_offset(const Ray<T, P>& r, const Vec3<T>& o, const Vec3<T>& c, const T& radius,
+                             const Mask<T>& near) {
+    const Vec3<T> fh = o - c;
+    const Vec3<T> fl{two_sum_error(o.x, T(0) - c.x, fh.x), two_sum_error(o.y, T(0) - c.y, fh.y),
+                     two_sum_error(o.z, T(0) - c.z, fh.z)};
+    const T b = fdot(fh, r.d);
+    const T nb_a = b * r.neg_inv_dd;  // -t of the foot; its error moves q along d only
+    Vec3<T> q{lane::fma(r.d.x, nb_a, fh.x) + fl.x, lane::fma(r.d.y, nb_a, fh.y) + fl.y,
+              lane::fma(r.d.z, nb_a, fh.z) + fl.z};
+    const T back = fdot(q, r.d) * r.neg_inv_dd;
+    q = {lane::fma(r.d.x, back, q.x), lane::fma(r.d.y, back, q.y), lane::fma(r.d.z, back, q.z)};
+    const T r2 = radius * radius, r2_lo = lane::fma(radius, radius, T(0) - r2);
+    T h2 = (r2 - fdot(q, q)) + r2_lo;
+    // An origin near the surface (sphere_roots' `cancels`: a planet seen
+    // from above, a shadow ray) has h^2 = b^2/a - c better conditioned toward
+    // the horizon, as sphere_roots' disc: r^2 - |q|^2 cancels there (|q| ~ r)
+    // and would leave 2.25u r^2 / h; b^2/a - c, with c = |f|^2 - r^2 from the
+    // exact f (compensated, plus 2 fh.fl), leaves ~5u (h^2 + |c|) instead.
+    const T s2 = fdot(fh, fh);
+    const Mask<T> cancels = lane::abs(s2 - r2) < T(0.25f) * lane::max(s2, r2);
+    if (lane::any(cancels)) {
+        const T c2 = norm2_compensated(fh, r2, r2_lo) + T(2) * fdot(fh, fl);
+        const T bf = b + fdot(fl, r.d);
+        const T b2_a = bf * bf * r.inv_dd;
+        h2 = lane::select(cancels && b2_a + lane::abs(c2) < T(0.5f) * s2, b2_a - c2, h2);
+    }
+    const T h_t = lane::sqrt(lane::max(h2, T(0)) * r.inv_dd);  // h / |d|: from the foot to p, in units of t
+    const T along = lane::select(near, T(0) - h_t, h_t);
+    return {lane::fma(r.d.x, along, q.x), lane::fma(r.d.y, along, q.y), lane::fma(r.d.z, along, q.z)};
+}
+
+// The lanes in `huge` in units of 2^72, as sphere_roots_scaled; p - c back in
+// scene units (|p - c| = r, a float, so no overflow).
+template <class T, Precision P>
+OCTRAY_COLD Vec3<T> sphere_offset_scaled(const Ray<T, P>& r, const Vec3<T>& center, const T& radius,
+                                         const Mask<T>& near, const Mask<T>& huge) {
+    const T k = lane::select(huge, T(0x1p-72f), T(1)), unscale = lane::select(huge, T(0x1p72f), T(1));
+    return sphere_offset(r, r.o * k, center * k, radius * k, near) * unscale;
+}
+
+// Unit geometric normal (outward) at the hit of sphere (center, radius) by r,
+// at the root `near` says (sphere_hit): (p - c) / r from sphere_offset.
+// Every operation is IEEE (sqrt; 1/(d.d) and 1/r are IEEE in every mode), so
+// the normal is the same in every precision mode.
+template <class T, Precision P>
+inline Vec3<T> sphere_normal(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, const T& inv_radius,
+                             const Mask<T>& near) {
+    const Vec3<T> f = r.o - center;
+    const Mask<T> huge = lane::not_(lane::max(fdot(f, f), radius * radius) <= T(0x1p100f));
+    if (lane::any(huge)) return sphere_offset_scaled(r, center, radius, near, huge) * inv_radius;
+    return sphere_offset(r, r.o, center, radius, near) * inv_radius;
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA

@@ -10,22 +10,17 @@
 
 namespace octray {
 
-double scene_condition(const Scene& scene) {
-    const Camera& c = scene.camera;
+double scene_condition(const Scene& scene, const ReferenceTrace& traced) {
     double worst = 0;
-    for (int j = 0; j < c.height; ++j)
-        for (int i = 0; i < c.width; ++i) {
-            const reference::Ray ray = reference::camera_ray(c, i, j);
-            const reference::Hit hit = reference::trace(scene, ray);
-            if (hit.object < 0) continue;
-            const double t = hit.t * std::sqrt(dot(ray.direction, ray.direction));
-            if (const auto* s = hit.object < int(scene.objects.size()) ? std::get_if<Sphere>(&scene.objects[std::size_t(hit.object)].shape) : nullptr)
-                worst = std::max(worst, t / s->radius);
-            for (const PointLight& l : scene.point_lights) {
-                const double r = std::sqrt(length_squared(l.position - hit.point));
-                if (r > 0) worst = std::max(worst, t / r);
-            }
+    for (std::size_t k = 0; k < traced.hits.size(); ++k) {
+        const reference::Hit& hit = traced.hits[k];
+        if (hit.object < 0) continue;
+        const double t = hit.t * std::sqrt(dot(traced.rays[k].direction, traced.rays[k].direction));
+        for (const PointLight& l : scene.point_lights) {
+            const double r = std::sqrt(length_squared(l.position - hit.point));
+            if (r > 0) worst = std::max(worst, t / r);
         }
+    }
     return 1 + worst;
 }
 
@@ -51,8 +46,9 @@ ErrtimeReport measure_errtime(const Scene& scene, const ErrtimeOptions& options,
     report.width = scene.camera.width;
     report.height = scene.camera.height;
     const PacketScene packet = compile(scene);
-    const ReferenceRender ref = render_reference(scene);
-    report.kappa = scene_condition(scene);
+    const ReferenceTrace traced = trace_reference(scene);
+    const ReferenceRender ref = render_reference(scene, traced);
+    report.kappa = scene_condition(scene, traced);
     const double rays = double(scene.camera.width) * double(scene.camera.height);
     std::vector<Kernel> kernels;
     for (Path path : {Path::scalar, Path::simd})

@@ -40,9 +40,11 @@ struct ErrtimeReport {
     std::vector<std::string> skipped;     // "scalar/fast14: needs AVX-512 (F+VL)" ...
 };
 
-// kappa = 1 + the largest t/R over the reference's sphere hits and t/r over
-// (hit, point light) pairs, with t the hit distance (precision.hpp).
-double scene_condition(const Scene& scene);
+// kappa = 1 + the largest t/r over (hit, point light) pairs of the
+// reference's hits, t the hit distance (precision.hpp). Sphere normals are
+// not in it: their error has its own bound, lane by lane (precision.hpp,
+// sphere_normal_bound).
+double scene_condition(const Scene& scene, const ReferenceTrace& traced);
 
 // Renders the scene with every path x mode this CPU runs (general kernels,
 // so the precision is the only difference), compares each warm-up render

@@ -482,6 +482,104 @@ Measure far_sphere(const Tracer& tr, double distance) {
     return m;
 }
 
+double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+
+// ---- sphere hits in the sphere's frame (issue 16) ---------------------------------
+// The normal of every lane where kernel and reference hit the same sphere,
+// against the reference's normal on the same float inputs: |n - n_ref| in
+// units of u (1 + 1/cos), cos = |n_ref.d| / |d|. The kernels form it from
+// the sphere's own frame (kernels/sphere.hpp, sphere_offset): a few u, and
+// near the outline the one 1/cos of h (precision.hpp), whatever t/r.
+Measure check_normals(const Scene& scene, const std::vector<Lane>& lanes, const Traced& tr) {
+    Measure m;
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+        const Lane& l = lanes[i];
+        const Out& k = tr.lanes[i];
+        if (!l.active || !k.hit) continue;
+        const reference::Hit h = ref_trace(scene, l);
+        if (h.object != k.object || !std::holds_alternative<Sphere>(scene.objects[std::size_t(h.object)].shape)) continue;
+        const double cosine = std::fabs(dot(h.normal, l.d)) / norm(l.d);
+        const double err = norm(k.n - h.normal) / (kUnitRoundoff * (1 + 1 / std::max(cosine, std::sqrt(kUnitRoundoff))));
+        if (debug()) std::fprintf(stderr, "  lane %zu: cos=%.3g |dn|=%.3g -> %.3g\n", i, cosine, norm(k.n - h.normal), err);
+        m.error = std::max(m.error, err);
+    }
+    return m;
+}
+
+// The kernels' normals before issue 16, for these cases' naive column: from
+// their own hit point, n = (o + t d - c) / r, in float as they formed it
+// (o + d t rounded per operation, then face-forwarded). Its error grows as t/r.
+void point_normals(const Scene& scene, const std::vector<Lane>& lanes, Traced& tr) {
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+        Out& k = tr.lanes[i];
+        if (!k.hit) continue;
+        const Sphere* s = std::get_if<Sphere>(&scene.objects[std::size_t(k.object)].shape);
+        if (s == nullptr) continue;
+        const float t = float(k.t), inv_r = float(1.0 / s->radius);
+        auto axis = [&](double o, double d, double c) {
+            volatile float step = float(d) * t;  // the kernel built without contraction: no FMA here
+            volatile float p = float(o) + step;
+            return (p - float(c)) * inv_r;
+        };
+        Vec3d n{axis(lanes[i].o.x, lanes[i].d.x, s->center.x), axis(lanes[i].o.y, lanes[i].d.y, s->center.y),
+                axis(lanes[i].o.z, lanes[i].d.z, s->center.z)};
+        if (dot(n, lanes[i].d) > 0) n = n * -1.0;
+        k.n = n;
+    }
+}
+
+// Hits (t, hit/miss) and sphere normals. The naive tracer runs the SIMD exact
+// kernel with point_normals: the formulation these cases replaced.
+Measure measure_frame(const Tracer& tr, const Scene& s, const std::vector<Lane>& lanes) {
+    Traced t = run(tr.naive ? Tracer{Path::simd, Precision::exact, false} : tr, s, lanes);
+    if (tr.naive) point_normals(s, lanes, t);
+    Measure m = check_hits(s, lanes, t);
+    merge(m, check_normals(s, lanes, t));
+    if (tr.naive) m.note = "naive here: the kernel before issue 16, n = (o + t d - c) / r";
+    else add_note(m, t);
+    return m;
+}
+
+// A sphere of radius 1e-2 at distance 1e3 (t/r = 1e5), through its centre
+// and at fractions of its radius out to 0.9999 (cos = 0.014), along two axes.
+Measure small_far_outline(const Tracer& tr) {
+    Measure m;
+    for (const Vec3d& axis : {Vec3d{0, 0, 1}, Vec3d{0.6, -0.48, 0.64}}) {
+        const Vec3d c = fl(axis * 1e3);
+        const double r = fl(1e-2);
+        merge(m, measure_frame(tr, scene_of({Sphere{c, r}}), sphere_probe({0, 0, 0}, c, r, {0.0, 0.5, 0.9, 0.99, 0.999, 0.9999})));
+    }
+    return m;
+}
+
+// 400 spheres of radius 0.01 to 0.05 scattered 10 to 40 units away (t/r up
+// to ~4000); rays from the origin at 64 of them, across their disks and near
+// their outlines (others may be hit first: whatever is hit is checked).
+Measure small_sphere_field(const Tracer& tr) {
+    std::mt19937 rng(16);
+    std::vector<Shape> shapes;
+    std::vector<Sphere> aimed;
+    for (int k = 0; k < 400; ++k) {
+        const Sphere sp{fl(Vec3d{uniform(rng, -5, 5), uniform(rng, -2, 2), uniform(rng, -40, -10)}), fl(uniform(rng, 0.01, 0.05))};
+        shapes.push_back(sp);
+        if (k < 64) aimed.push_back(sp);
+    }
+    std::vector<Lane> lanes;
+    for (const Sphere& sp : aimed)
+        for (const Lane& l : sphere_probe({0, 0, 0}, sp.center, sp.radius, {0.3, 0.9, 0.99})) lanes.push_back(l);
+    return measure_frame(tr, scene_of(std::move(shapes)), lanes);
+}
+
+// A sphere of radius 1e3 at distance 1e6 (t/r = 1e3), as small_far_outline.
+Measure large_far_sphere(const Tracer& tr) {
+    Measure m;
+    for (const Vec3d& axis : {Vec3d{0, 0, 1}, Vec3d{0.6, -0.48, 0.64}}) {
+        const Vec3d c = fl(axis * 1e6);
+        merge(m, measure_frame(tr, scene_of({Sphere{c, 1e3}}), sphere_probe({0, 0, 0}, c, 1e3, {0.0, 0.5, 0.9, 0.99, 0.999})));
+    }
+    return m;
+}
+
 Measure tangent_rays(const Tracer& tr) {
     Measure m;
     {
@@ -673,7 +771,6 @@ Scene triangles_scene(const std::vector<std::array<Vec3d, 3>>& tris) {
     return s;
 }
 
-double uniform(std::mt19937& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
 
 // Rays from random origins (from `origin`) at each target: half with the
 // direction target - o rounded to float, half normalized: the float ray
@@ -1101,6 +1198,11 @@ const std::vector<Case>& catalogue() {
                          [](const Tracer& tr) { return far_sphere(tr, 1e4); }));
         c.push_back(make("sphere_r1_at_t1e7", "t ~ 1e7 to input precision", t8, 8,
                          [](const Tracer& tr) { return far_sphere(tr, 1e7); }));
+        const std::string nb = "dn/(u(1+1/cos)) <= 8, t8";
+        c.push_back(make("sphere_r1e-2_at_1e3_outline", "normal to a few u near the outline, t/r = 1e5", nb, 8,
+                         small_far_outline));
+        c.push_back(make("small_sphere_field", "400 spheres r <= 0.05 at 10-40: normals few u", nb, 8, small_sphere_field));
+        c.push_back(make("sphere_r1e3_at_1e6", "large sphere seen from far: normals few u", nb, 8, large_far_sphere));
         c.push_back(make("sphere_tangent_rays", "exact tangent hits (disc = 0); 1 ulp out misses", t8, 8, tangent_rays));
         c.push_back(make("camera_inside_sphere", "the far root (exit) is the hit", t8, 8, camera_inside));
         c.push_back(make("origin_on_sphere", "no self-hit at t = 0; chords hit", t8, 8, origin_on_surface));

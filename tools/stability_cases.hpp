@@ -39,7 +39,8 @@ namespace octray::stability {
 struct Tracer {
     Path path = Path::simd;
     Precision precision = Precision::exact;
-    bool naive = false;  // the textbook formulation (stability_naive.cpp), for the naive count only
+    bool naive = false;  // the textbook formulation (stability_naive.cpp), for the naive count only; the
+                         // sphere-frame cases run the kernels' formulation before issue 16 instead
     std::string name() const;  // "scalar/exact", "simd/fast14", "naive"
 };
 

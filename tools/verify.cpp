@@ -63,7 +63,20 @@ std::uint64_t ulp_distance(float a, float b) {
     return std::uint64_t(d < 0 ? -d : d);
 }
 
-ReferenceRender render_reference(const Scene& scene) {
+ReferenceTrace trace_reference(const Scene& scene) {
+    const Camera& c = scene.camera;
+    ReferenceTrace t;
+    for (int j = 0; j < c.height; ++j)
+        for (int i = 0; i < c.width; ++i) {
+            const reference::Ray& ray = t.rays.emplace_back(reference::camera_ray(c, i, j));
+            t.hits.push_back(reference::trace(scene, ray));
+        }
+    return t;
+}
+
+ReferenceRender render_reference(const Scene& scene) { return render_reference(scene, trace_reference(scene)); }
+
+ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& traced) {
     const Camera& c = scene.camera;
     ReferenceRender r;
     r.radiance = Image<double>(c.width, c.height);
@@ -72,16 +85,17 @@ ReferenceRender render_reference(const Scene& scene) {
     r.shadowed.assign(r.primitive.size(), 0);
     for (int j = 0; j < c.height; ++j) {
         for (int i = 0; i < c.width; ++i) {
-            const reference::Ray ray = reference::camera_ray(c, i, j);
-            const reference::Hit hit = reference::trace(scene, ray);
+            const std::size_t k = std::size_t(j) * std::size_t(c.width) + std::size_t(i);
+            const reference::Ray& ray = traced.rays[k];
+            const reference::Hit& hit = traced.hits[k];
             const Vec3d l = reference::shade(scene, ray, hit);
             const Vec3d s = hit.object >= 0 ? full_light_scale(scene, hit) : scene.background;
             double* px = r.radiance.pixel(i, j);
             double* sx = r.scale.pixel(i, j);
             px[0] = l.x, px[1] = l.y, px[2] = l.z;
             sx[0] = s.x, sx[1] = s.y, sx[2] = s.z;
-            r.primitive[std::size_t(j) * std::size_t(c.width) + std::size_t(i)] = hit.object;
-            r.shadowed[std::size_t(j) * std::size_t(c.width) + std::size_t(i)] = blocked_lights(scene, hit);
+            r.primitive[k] = hit.object;
+            r.shadowed[k] = blocked_lights(scene, hit);
         }
     }
     return r;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <octray/kernels.hpp>
+#include <octray/reference.hpp>
 #include <octray/scene.hpp>
 
 #include <cstdint>
@@ -19,7 +20,15 @@ struct ReferenceRender {
     // point lights; the first 64) is blocked at the pixel's hit point.
     std::vector<std::uint64_t> shadowed;
 };
+// The reference's camera ray and nearest hit of every pixel, row-major: the
+// one full trace a render, an error bound (errtime.hpp) and a test share.
+struct ReferenceTrace {
+    std::vector<reference::Ray> rays;
+    std::vector<reference::Hit> hits;
+};
+ReferenceTrace trace_reference(const Scene& scene);
 ReferenceRender render_reference(const Scene& scene);
+ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& traced);
 
 // A packet-path render with per-pixel primitive ids.
 struct PacketRender {

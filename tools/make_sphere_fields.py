@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""Writes the sphere-field scenes of issue 16 (many small, distant spheres).
+
+    python3 tools/make_sphere_fields.py                 # scenes/sphere_field.json, scenes/sphere_field_far.json
+    python3 tools/make_sphere_fields.py --issue DIR     # also the issue's own scenes, into DIR
+
+The committed scenes put 20,000 spheres in front of an orthographic camera:
+radius 0.04 over a 10 x 2 grid 10-15 units away (sphere_field.json), and
+radius 1e-3 at 100-105 units (sphere_field_far.json, t/r = 1e5). Their inputs
+are exact in float, so `octray verify` measures the kernels, not the rounding
+of the scene file: the camera frame is axis-aligned, the image width and
+height and the view's half extents are powers of two (every camera ray
+origin and direction is a float, the same in the reference's double), and
+every centre is written as the float it rounds to. A pinhole camera's rays
+are rounded (about 1u of angle, u = 2^-24), which moves the hit on a sphere
+of radius R at distance t by ~u t and its normal by ~u t / (R cos): the
+input term of precision.hpp's bound, which no kernel can remove.
+
+--issue DIR writes the scenes the issue reported, as a new user would make
+them: scenes/default.json with its objects replaced by N spheres over a
+10 x 2 grid 10-15 units in front of its pinhole camera, centres rounded to
+four decimals (issue16_2000.json, issue16_20000.json, issue16_20000_r0.4.json),
+and issue16_20000_f32.json: the same 20,000 with those centres written as the
+floats they round to, which leaves the camera rays as the only rounded input.
+"""
+import argparse
+import json
+import math
+import os
+import random
+import struct
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def f32(x):
+    """x rounded to float, as a double (exact in JSON's shortest repr)."""
+    return struct.unpack("f", struct.pack("f", x))[0]
+
+
+def default_scene():
+    with open(os.path.join(ROOT, "scenes", "default.json")) as f:
+        return json.load(f)
+
+
+def sphere(center, radius, material):
+    return {"type": "sphere", "center": center, "radius": radius, "material": material}
+
+
+def field(count, radius, lo, hi, near, far, seed):
+    """count spheres, centres uniform in x in lo[0]..hi[0], y in lo[1]..hi[1],
+    z in -far..-near (in front of a camera at the origin looking down -z),
+    rounded to float."""
+    rng = random.Random(seed)
+    base = default_scene()
+    materials = sorted(base["materials"])
+    objects = []
+    for k in range(count):
+        c = [f32(rng.uniform(lo[0], hi[0])), f32(rng.uniform(lo[1], hi[1])), f32(-rng.uniform(near, far))]
+        objects.append(sphere(c, radius, materials[k % len(materials)]))
+    return base, objects
+
+
+def orthographic(base, objects, width, height, height_world):
+    scene = dict(base)
+    scene["camera"] = {"type": "orthographic", "eye": [0, 0, 0], "look_at": [0, 0, -1], "up": [0, 1, 0],
+                       "height_world": height_world, "width": width, "height": height}
+    scene["objects"] = objects
+    return scene
+
+
+def write(path, scene):
+    with open(path, "w") as f:
+        json.dump(scene, f, separators=(",", ":"))
+        f.write("\n")
+    print(f"wrote {path}: {len(scene['objects'])} objects")
+
+
+def issue_scenes(outdir):
+    """The issue's reproduction: default.json's pinhole camera and lights."""
+    base = default_scene()
+    eye, look = base["camera"]["eye"], base["camera"]["look_at"]
+    fwd = [l - e for l, e in zip(look, eye)]
+    n = math.sqrt(sum(x * x for x in fwd))
+    fwd = [x / n for x in fwd]
+    right = [fwd[1] * 0 - fwd[2] * 1, fwd[2] * 0 - fwd[0] * 0, fwd[0] * 1 - fwd[1] * 0]  # fwd x (0, 1, 0)
+    n = math.sqrt(sum(x * x for x in right))
+    right = [x / n for x in right]
+    up = [right[1] * fwd[2] - right[2] * fwd[1], right[2] * fwd[0] - right[0] * fwd[2], right[0] * fwd[1] - right[1] * fwd[0]]
+    materials = sorted(base["materials"])
+    for count, radius, as_float in ((2000, 0.04, False), (20000, 0.04, False), (20000, 0.4, False), (20000, 0.04, True)):
+        rng = random.Random(16)
+        objects = []
+        for k in range(count):
+            a, b, dist = rng.uniform(-5, 5), rng.uniform(-1, 1), rng.uniform(10, 15)
+            c = [round(eye[i] + fwd[i] * dist + right[i] * a + up[i] * b, 4) for i in range(3)]
+            objects.append(sphere([f32(x) for x in c] if as_float else c, radius, materials[k % len(materials)]))
+        scene = dict(base)
+        scene["objects"] = objects
+        name = f"issue16_{count}" + ("" if radius == 0.04 else f"_r{radius}") + ("_f32" if as_float else "") + ".json"
+        write(os.path.join(outdir, name), scene)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", default=os.path.join(ROOT, "scenes"), help="where the committed scenes go")
+    ap.add_argument("--issue", metavar="DIR", help="also write the issue's pinhole reproduction scenes into DIR")
+    args = ap.parse_args()
+    # radius 0.04, 10-15 units: 256 x 64 pixels over 10 x 2.5 units (a pixel ~ a sphere's diameter).
+    base, objects = field(20000, 0.04, (-5, -1), (5, 1), 10, 15, seed=16)
+    write(os.path.join(args.out, "sphere_field.json"), orthographic(base, objects, 256, 64, 2.5))
+    # radius 1e-3, 100-105 units: 128 x 64 pixels over 0.125 x 0.0625 (a pixel ~ half a diameter).
+    base, objects = field(20000, 1e-3, (-0.0625, -0.03125), (0.0625, 0.03125), 100, 105, seed=17)
+    write(os.path.join(args.out, "sphere_field_far.json"), orthographic(base, objects, 128, 64, 0.0625))
+    if args.issue:
+        os.makedirs(args.issue, exist_ok=True)
+        issue_scenes(args.issue)
+
+
+if __name__ == "__main__":
+    main()
