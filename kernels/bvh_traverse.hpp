@@ -311,7 +311,7 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
         for (int c = 0; c < kWidth && node.child[c] != kEmptySlot; ++c) {
             auto axis = [&](const float* lo, const float* hi, const T& o, const T& inv, const Mask<T>& neg, T& enter,
                             T& leave) {
-                const T l(S(lo[c])), h(S(hi[c]));
+                const T l = T(S(lo[c])), h = T(S(hi[c]));  // not l(S(lo[c])): Clang reads that as a function declaration
                 enter = lane::max((lane::select(neg, h, l) - o) * inv, enter);  // max(t, acc): NaN t dropped
                 leave = lane::min((lane::select(neg, l, h) - o) * inv, leave);
             };

@@ -13,8 +13,19 @@ namespace octray::kernels::OCTRAY_ISA {
 // double lanes (the f64 mode) keep libm's / xsimd's double pow.
 template <class T>
 inline T gamma_pow(const T& c, const T& y) {
-    if constexpr (std::is_same_v<lane::Scalar<T>, float>) return lane::pow_positive(c, y);
-    else return lane::pow(c, y);
+    if constexpr (std::is_same_v<lane::Scalar<T>, float>) {
+        return lane::pow_positive(c, y);
+    } else {
+        // xsimd's double pow is exp(y log c), and its exp converts (y log c)
+        // / ln 2 to an integer before its range check: past 2^63 (y = +inf,
+        // a gamma below 2^-128 whose 1/gamma rounds to +inf in float; c =
+        // +inf, a clamp colour past the float range) that is undefined
+        // behaviour (UBSan, found by fuzz/kernels_fuzz.cpp). y <= 2^40 and
+        // c <= FLT_MAX keep |y log c| < 2^47 and change no float result:
+        // c^(2^40) is already 0 for c < 1 and +inf for c > 1; +inf stays +inf.
+        const T finite_c = lane::min(c, T(std::numeric_limits<float>::max()));
+        return lane::select(c == inf<T>(), c, lane::pow(finite_c, lane::min(y, T(0x1p40))));
+    }
 }
 
 // NaN radiance becomes 0. Under max_to_one an infinite component becomes 1

@@ -194,3 +194,28 @@ TEST_CASE("shadow rays from a hit point that overflows float (found by the garba
         CHECK(run_and_check(k, ps, facts, r, colours) == "");
     }
 }
+
+TEST_CASE("tone map with a gamma near 0 and a clamp colour past the float range (found by fuzz/kernels_fuzz.cpp)") {
+    // 1/gamma = 1e300 rounds to +inf in float and clamp_color 1e300 to +inf:
+    // the f64 mode's xsimd pow converted y log c = -inf to an integer
+    // (undefined behaviour; UBSan in the sanitizer builds).
+    for (const ToneMap tonemap : {ToneMap::max_to_one, ToneMap::clamp_to_color, ToneMap::saturate}) {
+        Scene s;
+        s.render.tonemap = tonemap;
+        s.render.gamma = 1e-300;
+        s.render.clamp_color = {1e300, 0.5, 0.25};
+        const PacketScene ps = compile(s);
+        const SceneFacts facts = scene_facts(s);
+        ColorPacket8 in{}, out;
+        const float values[kPacketWidth] = {0, 0x1p-149f, 0.25f, 0.5f, 1, 2, 1e30f, INFINITY};
+        for (int i = 0; i < kPacketWidth; ++i) in.r[i] = values[i], in.g[i] = 0.5f, in.b[i] = NAN;
+        for (const Kernel& k : every_kernel()) {
+            CAPTURE(k.name());
+            k.tonemap(ps, in, out);
+            CHECK(check_tonemap(facts, out) == "");
+            // c^(1/gamma) for c = 0.5 is 0; NaN radiance is 0.
+            for (int i = 0; i < 4; ++i) CHECK(out.b[i] == 0);
+            if (tonemap == ToneMap::saturate) CHECK(out.g[0] == 0);
+        }
+    }
+}
