@@ -2,10 +2,13 @@
 # target of this build (library, tools, tests) for the sanitizers, or for
 # libFuzzer (tools/check builds each in a tree of its own).
 #
-#   -DOCTRAY_SANITIZE=address,undefined   ASan + UBSan (GCC or Clang)
+#   -DOCTRAY_SANITIZE=address,undefined   ASan + UBSan (GCC or Clang; GCC's
+#                                         UBSan checks float-to-int overflow only
+#                                         with float-cast-overflow added)
 #   -DOCTRAY_SANITIZE=thread              TSan
 #   -DOCTRAY_FUZZ=ON                      fuzz/ targets, libFuzzer: Clang only;
-#                                         combine with OCTRAY_SANITIZE=address,undefined
+#                                         tools/check combines it with
+#                                         OCTRAY_SANITIZE=address,undefined
 #
 # Any report is fatal (-fno-sanitize-recover=all): a test that triggers one
 # fails. Included before the first target so the options reach them all.

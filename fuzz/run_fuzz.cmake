@@ -1,7 +1,7 @@
 # fuzz/run_fuzz.cmake — one bounded libFuzzer run (the fuzz.smoke.* tests).
 #
 #   cmake -DFUZZER=<target binary> -DWORK=<scratch dir> -DRUNS=<n>
-#         "-DCORPORA=<dir;dir...>" -P fuzz/run_fuzz.cmake
+#         "-DCORPORA=<dir;dir...>" ["-DARGS=<libFuzzer option;...>"] -P fuzz/run_fuzz.cmake
 #
 # WORK is emptied and made the first corpus directory, where libFuzzer writes
 # what it finds new (the repository's corpora are only read), and the prefix
@@ -17,7 +17,7 @@ file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}/corpus")
 execute_process(
   COMMAND "${FUZZER}" -runs=${RUNS} -seed=19 -timeout=60 -print_final_stats=1
-          "-artifact_prefix=${WORK}/" "${WORK}/corpus" ${CORPORA}
+          "-artifact_prefix=${WORK}/" ${ARGS} "${WORK}/corpus" ${CORPORA}
   RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   file(GLOB artifacts "${WORK}/crash-*" "${WORK}/leak-*" "${WORK}/timeout-*" "${WORK}/oom-*")
