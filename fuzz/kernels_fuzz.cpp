@@ -13,7 +13,8 @@
 //              (2-3), triangles (4-5), a plane (6), a disk (7); byte 1 = a
 //              rectangle (0), ambient (1), a directional light (2), a point
 //              light (3), an attenuated point light (4), shadows (5), tone
-//              map (6-7: max_to_one, clamp_to_color, saturate, saturate)
+//              map (6-7: max_to_one, clamp_to_color, saturate, and saturate
+//              with an orthographic camera; else the camera is a pinhole)
 //   numbers    camera, background, gamma, clamp colour, two materials, the
 //              lights, each object (material: one byte, then its geometry);
 //              a number is a tag byte t then: t < 0x80: (t - 0x40) / 8 (no
