@@ -151,10 +151,7 @@ void disable_culling(PacketScene& scene) {
 }
 
 PacketScene compile(const Scene& scene) {
-    constexpr std::size_t kMaxIndex = std::size_t(1) << 24;  // indices travel as exact floats
-    if (scene.objects.size() + scene.mesh_triangle_count() >= kMaxIndex || scene.materials.size() >= kMaxIndex)
-        throw std::invalid_argument("octray::compile: 2^24 or more primitives or materials");
-    validate(scene);
+    validate(scene);  // includes the limits on primitives and materials (scene.hpp)
 
     PacketScene compiled;
     SceneData& s = *compiled.data_;

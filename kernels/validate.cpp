@@ -19,7 +19,6 @@ namespace {
 // camera basis, a rectangle's dual basis or a triangle numerically meaningless.
 constexpr double kParallelSine = 1e-6;
 constexpr double kDegenerateSine = 1e-9;
-constexpr int kMaxImageSize = 16384;
 
 // Shortest decimal that reads back as the same double, so "got 0.1" is not
 // "got 0.100000" or "got 0.10000000000000001".
@@ -76,8 +75,8 @@ void direction(const std::string& path, const Vec3d& d) {
     if (is_zero(d)) fail(path, "must not be zero-length");
 }
 void image_size(const std::string& path, int n) {
-    if (n < 1 || n > kMaxImageSize)
-        fail(path, "must be in [1, " + std::to_string(kMaxImageSize) + "], got " + std::to_string(n));
+    if (n < 1 || n > kMaxImageSide)
+        fail(path, "must be in [1, " + std::to_string(kMaxImageSide) + "], got " + std::to_string(n));
 }
 
 void camera(const Camera& c) {
@@ -205,6 +204,12 @@ void validate(const Scene& scene) {
         const PointLight& l = scene.point_lights[i];
         finite(p + ".position", l.position), colour(p + ".color", l.color), non_negative(p + ".ls", l.ls);
     }
+    if (scene.materials.size() > kMaxMaterials)
+        fail("materials", "too many: " + std::to_string(scene.materials.size()) + " (limit " +
+                              std::to_string(kMaxMaterials) + ")");
+    if (const std::size_t n = scene.objects.size() + scene.mesh_triangle_count(); n > kMaxPrimitives)
+        fail("objects", "too many primitives: " + std::to_string(n) + " objects and mesh triangles (limit " +
+                            std::to_string(kMaxPrimitives) + ")");
     for (std::size_t i = 0; i < scene.materials.size(); ++i) {
         const std::string p = "materials[" + std::to_string(i) + "]";
         const Material& m = scene.materials[i];

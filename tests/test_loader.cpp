@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 using octray::parse_scene;
@@ -404,4 +405,18 @@ TEST_CASE("a file that cannot be read names the file and the OS reason") {
     } catch (const SceneError& e) {
         CHECK(std::string(e.what()).find("Is a directory") != std::string::npos);
     }
+}
+
+TEST_CASE("a scene file over the size limit is refused unread") {
+    // A sparse file: no disk, no memory; load_scene must not try to read it.
+    const std::filesystem::path big = std::filesystem::temp_directory_path() / "octray_test_big_scene.json";
+    { std::ofstream touch(big); }
+    std::filesystem::resize_file(big, octray::kMaxSceneFileBytes + 1);
+    try {
+        octray::load_scene(big.string());
+        FAIL("a file over the limit was accepted");
+    } catch (const SceneError& e) {
+        CHECK(std::string(e.what()) == big.string() + ": file too large: 1073741825 bytes (limit 1073741824)");
+    }
+    std::filesystem::remove(big);
 }

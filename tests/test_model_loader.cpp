@@ -390,8 +390,10 @@ TEST_CASE("model_loader: shared vertices by exact position, across meshes") {
 TEST_CASE("model_loader: the triangle limit and the file-size limit are checked before building") {
     TempDir dir;
     // A glTF 2.0 file whose one mesh has 2^16 triangles (all index 0: degenerate, but they
-    // count) and is used by 1025 nodes: 2^16 * 1025 > 2^26 triangles.
-    const std::uint32_t tris = 1u << 16, nodes = 1025;
+    // count) and is used by 256 nodes: 2^24 triangles, one over the limit.
+    const std::uint32_t tris = 1u << 16, nodes = 256;
+    REQUIRE(std::uint64_t(tris) * nodes > kMaxModelTriangles);
+    REQUIRE(std::uint64_t(tris) * (nodes - 1) <= kMaxModelTriangles);
     std::string bin(std::size_t(tris) * 3 * 2, '\0');  // uint16 indices, all 0
     const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     bin.append(reinterpret_cast<const char*>(pos), sizeof pos);
@@ -411,7 +413,7 @@ TEST_CASE("model_loader: the triangle limit and the file-size limit are checked 
         "\"accessors\":[{\"bufferView\":0,\"componentType\":5123,\"count\":" + std::to_string(tris * 3) +
         ",\"type\":\"SCALAR\"},{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\","
         "\"min\":[0,0,0],\"max\":[1,1,0]}]}";
-    CHECK(load_error(dir.write("many.gltf", gltf)) == "too many triangles: more than 67108864 (the limit)");
+    CHECK(load_error(dir.write("many.gltf", gltf)) == "too many triangles: more than 16777215 (the limit)");
 
     // Sparse files just over kMaxModelFileBytes: the model itself, and a glTF buffer.
     const std::string big = (dir.path / "big.ply").string();

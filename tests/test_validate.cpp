@@ -313,3 +313,22 @@ TEST_CASE("InvalidScene splits its message into path and problem") {
     const std::invalid_argument& base = e;  // still what compile() was documented to throw
     CHECK(std::string(base.what()) == e.what());
 }
+
+TEST_CASE("the primitive limit counts objects and mesh triangles together") {
+    Scene s = base_scene();
+    const std::size_t triangles = kMaxPrimitives - s.objects.size() + 1;  // one primitive too many
+    Mesh m;
+    m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.indices.resize(3 * triangles);
+    for (std::size_t t = 0; t < triangles; ++t) m.indices[3 * t] = 0, m.indices[3 * t + 1] = 1, m.indices[3 * t + 2] = 2;
+    s.meshes.push_back(std::move(m));
+    try {
+        validate(s);
+        FAIL("a scene over the primitive limit was accepted");
+    } catch (const InvalidScene& e) {
+        CHECK(e.path() == "objects");
+        CHECK(e.problem() == "too many primitives: 16777216 objects and mesh triangles (limit 16777215)");
+    }
+    s.meshes[0].indices.resize(3 * (triangles - 1));  // exactly at the limit: valid
+    CHECK_NOTHROW(validate(s));
+}

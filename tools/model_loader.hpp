@@ -8,6 +8,7 @@
 // model file by hand: assimp reads, this file checks and converts.
 #pragma once
 
+#include <octray/scene.hpp>
 #include <octray/vec3.hpp>
 
 #include <array>
@@ -32,13 +33,13 @@ using Matrix4d = std::array<double, 16>;
 // - each file that assimp opens for a model (the model itself, a glTF .bin, an OBJ .mtl)
 //   may be at most kMaxModelFileBytes; a larger one is refused unread.
 // - a model may have at most kMaxModelTriangles triangles, counted after glTF instancing
-//   (a mesh used by n nodes counts n times) and before degenerate ones are dropped.
-// A 2^26-triangle binary PLY is about 1.2 GB, so the file limit does not cut below the
-// triangle limit. Memory is the real cost: loading a 4.2-million-triangle binary PLY
-// (height_field(1448), 80 MB) peaked at 590 MB resident, about 140 bytes a triangle, most
-// of it assimp's; at the triangle limit that is about 9.4 GB.
+//   (a mesh used by n nodes counts n times) and before degenerate ones are dropped: a
+//   scene's limit on primitives (scene.hpp), since a larger model could not be compiled.
+// Memory is the real cost: loading a 4.2-million-triangle binary PLY (height_field(1448),
+// 80 MB) peaked at 590 MB resident, about 140 bytes a triangle, most of it assimp's; at
+// the triangle limit that is about 2.4 GB.
 inline constexpr std::uint64_t kMaxModelFileBytes = std::uint64_t(2) << 30;  // 2 GiB
-inline constexpr std::uint64_t kMaxModelTriangles = std::uint64_t(1) << 26;
+inline constexpr std::uint64_t kMaxModelTriangles = kMaxPrimitives;
 
 // The "transform" of a mesh object: translate, rotate_deg (about x, then y, then z, in
 // degrees), uniform scale, applied as scale, then rotate, then translate; or a 4x4

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <set>
 #include <utility>
 #include <vector>
@@ -340,6 +341,15 @@ public:
         for (const auto& m : mats) material_names.push_back(m.name);
 
         std::vector<Object> out;
+        // The primitive limit (scene.hpp) checked as meshes come in, before a
+        // scene too large to compile loads more models.
+        std::size_t primitives = 0;
+        auto count = [&](std::size_t n, const std::string& at) {
+            primitives += n;
+            if (primitives > kMaxPrimitives)
+                fail(at, "too many primitives: more than " + std::to_string(kMaxPrimitives) +
+                             " objects and mesh triangles (the limit)");
+        };
         for (std::size_t i = 0; i < j.size(); ++i) {
             const Json& o = j[i];
             const std::string opath = element(path, i);
@@ -353,7 +363,9 @@ public:
             Mesh m;
             if (is_mesh) {
                 m = mesh(o, opath);
+                count(m.triangle_count(), member(opath, "file"));
             } else {
+                count(1, opath);
                 reject_unknown(o, opath, what, fields[static_cast<std::size_t>(type)]);
                 obj.shape = shape(o, opath, type);
             }
@@ -535,6 +547,12 @@ Scene parse_scene(const std::string& json_text, const std::string& file_name_for
 Scene load_scene(const std::string& path) {
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw SceneError(path + ": cannot open: " + std::strerror(errno));
+    std::error_code ec;
+    if (const std::uintmax_t size = std::filesystem::file_size(path, ec); !ec && size > kMaxSceneFileBytes) {
+        std::fclose(f);
+        throw SceneError(path + ": file too large: " + std::to_string(size) + " bytes (limit " +
+                         std::to_string(kMaxSceneFileBytes) + ")");
+    }
     std::string text;
     char buf[1 << 16];
     std::size_t n;

@@ -18,6 +18,7 @@
 
 #include <octray/scene.hpp>
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -31,8 +32,13 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// The largest scene file load_scene() reads. Parsing holds the JSON document
+// in memory, about 9 bytes per byte of text: some 10 GB at this limit.
+inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t(1) << 30;  // 1 GiB
+
 // Reads and parses `path`. A file that cannot be read gives
-// "FILE: cannot open: <OS reason>".
+// "FILE: cannot open: <OS reason>"; one larger than kMaxSceneFileBytes,
+// "FILE: file too large: N bytes (limit 1073741824)", unread.
 Scene load_scene(const std::string& path);
 
 // Parses JSON text; `file_name_for_messages` only prefixes error messages.

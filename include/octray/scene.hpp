@@ -17,7 +17,6 @@
 #include <octray/vec3.hpp>
 
 #include <cstddef>
-#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -122,6 +121,15 @@ struct RenderSettings {
     Vec3d clamp_color{1, 0, 0};  // a display colour: components in [0, 1]
     double gamma = 1.0;  // > 0; display colour is c^(1/gamma)
 };
+
+// Limits (validate() enforces them; the JSON loader reports them at their path).
+// Primitive and material ids travel through the kernels as exact floats, so a
+// scene has fewer than 2^24 of each. The image side bounds the render's memory:
+// `octray render` holds about 31 bytes a pixel (HDR, display, ids; 6.1 GB peak
+// at 16384 x 12288).
+inline constexpr int kMaxImageSide = 16384;
+inline constexpr std::size_t kMaxPrimitives = (std::size_t(1) << 24) - 1;  // objects and mesh triangles
+inline constexpr std::size_t kMaxMaterials = (std::size_t(1) << 24) - 1;
 
 struct Scene {
     Camera camera;
