@@ -27,26 +27,6 @@ namespace {
     std::abort();
 }
 
-void trace_some_tiles(const octray::Scene& scene) {
-    using namespace octray;
-    const PacketScene ps = compile(scene);
-    const test::SceneFacts facts = test::scene_facts(scene);
-    const int w = ps.width(), h = ps.height();
-    const int last_tile = (w - 1) / kPacketWidth * kPacketWidth;
-    for (Path path : {Path::simd, Path::scalar}) {
-        const Kernel k = select_kernel(ps, path);
-        for (const int y : {0, h / 2, h - 1})
-            for (const int x0 : {0, last_tile}) {
-                RayPacket8 rays;
-                k.camera(ps, x0, y, rays);
-                ColorPacket8 colours;
-                for (int i = 0; i < kPacketWidth; ++i) colours.r[i] = rays.ox[i], colours.g[i] = rays.dy[i], colours.b[i] = rays.dz[i];
-                const std::string e = test::run_and_check(k, ps, facts, rays, colours);
-                if (!e.empty()) bug(k.name() + " tile (" + std::to_string(x0) + ", " + std::to_string(y) + "): " + e);
-            }
-    }
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -65,7 +45,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     try {
         octray::validate(scene);
-        trace_some_tiles(scene);
+        if (const std::string e = octray::test::trace_camera_tiles(scene); !e.empty()) bug(e);
     } catch (const std::exception& e) {
         bug(std::string("the loader accepted a scene that validate() or compile() rejects: ") + e.what());
     }

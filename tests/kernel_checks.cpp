@@ -262,4 +262,24 @@ void GarbageRays::fill(ColorPacket8& colours) {
         for (int i = 0; i < kPacketWidth; ++i) channel[i] = bits() % 2 ? value() : float(uniform(0, 4));
 }
 
+std::string trace_camera_tiles(const Scene& scene) {
+    const PacketScene ps = compile(scene);
+    const SceneFacts facts = scene_facts(scene);
+    const int w = ps.width(), h = ps.height();
+    const int last_tile = (w - 1) / kPacketWidth * kPacketWidth;
+    for (Path path : {Path::simd, Path::scalar}) {
+        const Kernel k = select_kernel(ps, path);
+        for (const int y : {0, h / 2, h - 1})
+            for (const int x0 : {0, last_tile}) {
+                RayPacket8 rays;
+                k.camera(ps, x0, y, rays);
+                ColorPacket8 colours;  // raw radiance for tonemap: whatever the rays hold
+                for (int i = 0; i < kPacketWidth; ++i) colours.r[i] = rays.ox[i], colours.g[i] = rays.dy[i], colours.b[i] = rays.dz[i];
+                const std::string e = run_and_check(k, ps, facts, rays, colours);
+                if (!e.empty()) return k.name() + " tile (" + std::to_string(x0) + ", " + std::to_string(y) + "): " + e;
+            }
+    }
+    return "";
+}
+
 }  // namespace octray::test

@@ -74,6 +74,11 @@ struct StageCounts {
 std::string run_and_check(const Kernel& k, const PacketScene& ps, const SceneFacts& facts, const RayPacket8& rays,
                           const ColorPacket8& colours, StageCounts* counts = nullptr);
 
+// Compiles `scene` and runs a few camera tiles (first, middle and last row;
+// first and last packet of each) of the SIMD and scalar paths through
+// run_and_check. Returns "" or the first violation, naming kernel and tile.
+std::string trace_camera_tiles(const Scene& scene);
+
 // Random bit patterns for ray packets, weighted toward what breaks kernels:
 // NaN (quiet, signalling, negative, with payloads), +-inf, +-0, subnormals,
 // +-FLT_MAX, huge and tiny normals, directions whose d.d lies within a few
