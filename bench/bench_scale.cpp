@@ -24,7 +24,6 @@
 // builds octray's BVH on one thread too). Each scene, its rays and Embree's
 // scenes are made once, on the first benchmark that needs them.
 #include "bench_common.hpp"
-#include "bvh_traverse.hpp"
 #include "compile_options.hpp"
 #include "scale_common.hpp"
 
@@ -171,22 +170,16 @@ void register_all() {
 }  // namespace octray::bench
 
 // OCTRAY_SCALE_LEAF, OCTRAY_SCALE_ICOST, OCTRAY_SCALE_TCOST: compile()'s BVH
-// max_leaf_size, intersection_cost and traversal_cost for this run;
-// OCTRAY_SCALE_SINGLE, OCTRAY_SCALE_SPLIT_NODES: the walks' single_ray_lanes
-// and split_octants_min_nodes (the sweeps of
-// docs/performance.md); unset: the library's own.
+// max_leaf_size, intersection_cost and traversal_cost for this run (the
+// sweep of docs/performance.md); unset: the library's own. (The walk's
+// single_ray_lanes and octant split were swept the same way at 8de7b09.)
 int main(int argc, char** argv) {
     octray::bvh::BuildOptions& o = octray::compile_bvh_options();
     if (const char* v = std::getenv("OCTRAY_SCALE_LEAF")) o.max_leaf_size = std::atoi(v);
     if (const char* v = std::getenv("OCTRAY_SCALE_ICOST")) o.intersection_cost = float(std::atof(v));
     if (const char* v = std::getenv("OCTRAY_SCALE_TCOST")) o.traversal_cost = float(std::atof(v));
-    if (const char* v = std::getenv("OCTRAY_SCALE_SINGLE")) octray::bvh::default_single_ray_lanes() = std::atoi(v);
-    if (const char* v = std::getenv("OCTRAY_SCALE_SPLIT_NODES")) octray::bvh::default_split_octants_min_nodes() = std::atoi(v);
     benchmark::AddCustomContext("bvh_options", "leaf " + std::to_string(o.max_leaf_size) + ", intersection cost " +
                                                    std::to_string(o.intersection_cost) + ", traversal cost " +
-                                                   std::to_string(o.traversal_cost) + ", single-ray walks at <= " +
-                                                   std::to_string(octray::bvh::default_single_ray_lanes()) +
-                                                   " lanes, octant split from " +
-                                                   std::to_string(octray::bvh::default_split_octants_min_nodes()) + " nodes");
+                                                   std::to_string(o.traversal_cost));
     return octray::bench::run_main(argc, argv, octray::bench::register_all);
 }

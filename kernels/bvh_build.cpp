@@ -535,14 +535,4 @@ double sah_cost(const Bvh8& bvh, const BuildOptions& opt) {
     return cost;
 }
 
-int& default_single_ray_lanes() {
-    static int lanes = 2;
-    return lanes;
-}
-
-int& default_split_octants_min_nodes() {
-    static int nodes = 0;
-    return nodes;
-}
-
 }  // namespace octray::bvh

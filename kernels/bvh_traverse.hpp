@@ -74,14 +74,6 @@
 
 namespace octray::bvh {
 
-// The default of WalkOptions::single_ray_lanes, 2 (defined in bvh_build.cpp):
-// a benchmark hook (bench/bench_scale.cpp sets it from OCTRAY_SCALE_SINGLE for
-// the sweep of docs/performance.md). Set it only while no walk runs.
-int& default_single_ray_lanes();
-// The default of WalkOptions::split_octants_min_nodes, 0 (bvh_build.cpp): the
-// same kind of hook (OCTRAY_SCALE_SPLIT_NODES).
-int& default_split_octants_min_nodes();
-
 inline namespace OCTRAY_BVH_ISA {
 
 using lane::Mask;
@@ -111,18 +103,17 @@ inline RayView<T> make_ray_view(const T& ox, const T& oy, const T& oz, const T& 
 struct WalkOptions {
     // A packet's subtree reached by at most this many lanes is walked lane by
     // lane (float lanes; 0: never). See bench/bench_bvh.cpp for the measure.
-    int single_ray_lanes = default_single_ray_lanes();
+    int single_ray_lanes = 2;
     // Closest hit, packets: visit a node's children in the order of their
     // nearest lane's entry t (else in slot order).
     bool order_packet_children = true;
     // Packets of float lanes: walk the lanes of each direction octant as a
     // packet of their own (an incoherent packet's octants hold a lane or
-    // two each, which then walk as single rays from the root).
-    bool split_octants = true;
-    // ... but only in a tree of at least this many nodes: in a small one
-    // every lane reaches most leaves anyway, and the whole packet tests
-    // each primitive once.
-    int split_octants_min_nodes = default_split_octants_min_nodes();
+    // two each, which then walk as single rays from the root). Off: on the
+    // kernels' own primitive tests the whole packet walking together until
+    // it diverges was faster at every size of the cost curve, incoherent
+    // rays 1.1-4.7x (docs/performance.md, issue 18).
+    bool split_octants = false;
 };
 
 namespace detail {
@@ -360,8 +351,7 @@ void walk(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, const T& 
     if (bvh.empty() || !lane::any(active)) return;
     if constexpr (lane::width<T> == 1 && std::is_same_v<T, float>) {
         walk_single<Closest>(bvh, 0, -std::numeric_limits<float>::infinity(), single_ray(r, 0), 0, active, tbest, leaf);
-    } else if (std::is_same_v<lane::Scalar<T>, float> && lane::width<T> > 1 && opt.split_octants &&
-               bvh.nodes.size() >= std::size_t(opt.split_octants_min_nodes)) {
+    } else if (std::is_same_v<lane::Scalar<T>, float> && lane::width<T> > 1 && opt.split_octants) {
         // One walk per direction octant among the active lanes.
         const unsigned neg[3] = {lane::bits(r.inv_dx < T(0)), lane::bits(r.inv_dy < T(0)), lane::bits(r.inv_dz < T(0))};
         for (unsigned left = lane::bits(active); left != 0;) {
