@@ -31,6 +31,7 @@
 // stops with SkipWithError. `octray_bench_embree --crosscheck` prints the
 // whole table and exits 1 on any failure (a CTest test).
 #include "bench_common.hpp"
+#include "embree_spheres.hpp"
 
 #include <embree3/rtcore.h>
 #include <immintrin.h>
@@ -74,106 +75,6 @@ std::string embree_isa_guess(RTCDevice d) {
     if (rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED)) return "avx512 (native ray16)";
     if (rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED)) return "avx/avx2 (native ray8)";
     return "sse (native ray4)";
-}
-
-// ---- user-geometry spheres -----------------------------------------------------------
-struct UserSpheres {
-    std::vector<float> xyzr;  // center and radius per sphere
-};
-
-void user_bounds(const RTCBoundsFunctionArguments* args) {
-    const auto* s = static_cast<const UserSpheres*>(args->geometryUserPtr);
-    const float* c = &s->xyzr[4 * std::size_t(args->primID)];
-    RTCBounds* b = args->bounds_o;
-    b->lower_x = c[0] - c[3], b->lower_y = c[1] - c[3], b->lower_z = c[2] - c[3];
-    b->upper_x = c[0] + c[3], b->upper_y = c[1] + c[3], b->upper_z = c[2] + c[3];
-}
-
-// One lane: octray's stable quadratic (kernels/packet_kernels.hpp sphere_t).
-void user_intersect1(const RTCIntersectFunctionNArguments* args, unsigned i) {
-    const auto* s = static_cast<const UserSpheres*>(args->geometryUserPtr);
-    const float* c = &s->xyzr[4 * std::size_t(args->primID)];
-    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
-    RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
-    const unsigned N = args->N;
-    const float ox = RTCRayN_org_x(ray, N, i), oy = RTCRayN_org_y(ray, N, i), oz = RTCRayN_org_z(ray, N, i);
-    const float dx = RTCRayN_dir_x(ray, N, i), dy = RTCRayN_dir_y(ray, N, i), dz = RTCRayN_dir_z(ray, N, i);
-    const float fx = ox - c[0], fy = oy - c[1], fz = oz - c[2], r2 = c[3] * c[3];
-    const float b = fx * dx + fy * dy + fz * dz, dd = dx * dx + dy * dy + dz * dz;
-    const float inv_dd = 1.0f / dd, s_ = b * inv_dd;
-    const float px = fx - dx * s_, py = fy - dy * s_, pz = fz - dz * s_;
-    const float disc = r2 - (px * px + py * py + pz * pz);
-    if (!(disc >= 0.0f)) return;
-    const float sd = std::sqrt(disc * dd);
-    const float cc = fx * fx + fy * fy + fz * fz - r2;
-    const float q = -(b + std::copysign(sd, b));
-    const float t0 = q * inv_dd, t1 = cc / q;
-    const float tnear = std::min(t0, t1), tfar = std::max(t0, t1);
-    const float tmin = RTCRayN_tnear(ray, N, i);
-    const float t = tnear > tmin ? tnear : tfar;
-    if (!(t > tmin && t < RTCRayN_tfar(ray, N, i))) return;
-    RTCRayN_tfar(ray, N, i) = t;
-    RTCHitN_Ng_x(hit, N, i) = fx + dx * t, RTCHitN_Ng_y(hit, N, i) = fy + dy * t, RTCHitN_Ng_z(hit, N, i) = fz + dz * t;
-    RTCHitN_u(hit, N, i) = 0, RTCHitN_v(hit, N, i) = 0;
-    RTCHitN_primID(hit, N, i) = args->primID;
-    RTCHitN_geomID(hit, N, i) = args->geomID;
-    RTCHitN_instID(hit, N, i, 0) = args->context->instID[0];
-}
-
-// dst[i] = v[i] where mask lane i is set.
-__attribute__((target("avx2,fma"), always_inline)) inline void put8(float* dst, __m256 v, __m256 mask) {
-    _mm256_store_ps(dst, _mm256_blendv_ps(_mm256_load_ps(dst), v, mask));
-}
-__attribute__((target("avx2,fma"), always_inline)) inline void put8(unsigned* dst, unsigned v, __m256 mask) {
-    put8(reinterpret_cast<float*>(dst), _mm256_castsi256_ps(_mm256_set1_epi32(int(v))), mask);
-}
-
-// Eight lanes at once, the same arithmetic with AVX2 + FMA.
-__attribute__((target("avx2,fma"))) void user_intersect8(const RTCIntersectFunctionNArguments* args) {
-    const auto* s = static_cast<const UserSpheres*>(args->geometryUserPtr);
-    const float* c = &s->xyzr[4 * std::size_t(args->primID)];
-    RTCRayHit8* rh = reinterpret_cast<RTCRayHit8*>(args->rayhit);
-    const __m256 valid = _mm256_castsi256_ps(_mm256_cmpeq_epi32(
-        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(args->valid)), _mm256_set1_epi32(-1)));
-    const __m256 dx = _mm256_load_ps(rh->ray.dir_x), dy = _mm256_load_ps(rh->ray.dir_y), dz = _mm256_load_ps(rh->ray.dir_z);
-    const __m256 fx = _mm256_sub_ps(_mm256_load_ps(rh->ray.org_x), _mm256_set1_ps(c[0]));
-    const __m256 fy = _mm256_sub_ps(_mm256_load_ps(rh->ray.org_y), _mm256_set1_ps(c[1]));
-    const __m256 fz = _mm256_sub_ps(_mm256_load_ps(rh->ray.org_z), _mm256_set1_ps(c[2]));
-    const __m256 r2 = _mm256_set1_ps(c[3] * c[3]);
-    const __m256 b = _mm256_fmadd_ps(fx, dx, _mm256_fmadd_ps(fy, dy, _mm256_mul_ps(fz, dz)));
-    const __m256 dd = _mm256_fmadd_ps(dx, dx, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dz, dz)));
-    const __m256 inv_dd = _mm256_div_ps(_mm256_set1_ps(1.0f), dd);
-    const __m256 sb = _mm256_mul_ps(b, inv_dd);
-    const __m256 px = _mm256_fnmadd_ps(dx, sb, fx), py = _mm256_fnmadd_ps(dy, sb, fy), pz = _mm256_fnmadd_ps(dz, sb, fz);
-    const __m256 disc = _mm256_sub_ps(r2, _mm256_fmadd_ps(px, px, _mm256_fmadd_ps(py, py, _mm256_mul_ps(pz, pz))));
-    const __m256 any = _mm256_and_ps(valid, _mm256_cmp_ps(disc, _mm256_setzero_ps(), _CMP_GE_OQ));
-    if (_mm256_movemask_ps(any) == 0) return;
-    const __m256 sd = _mm256_sqrt_ps(_mm256_max_ps(_mm256_mul_ps(disc, dd), _mm256_setzero_ps()));
-    const __m256 cc = _mm256_sub_ps(_mm256_fmadd_ps(fx, fx, _mm256_fmadd_ps(fy, fy, _mm256_mul_ps(fz, fz))), r2);
-    const __m256 sign = _mm256_set1_ps(-0.0f);
-    const __m256 q = _mm256_xor_ps(_mm256_add_ps(b, _mm256_or_ps(sd, _mm256_and_ps(b, sign))), sign);
-    const __m256 t0 = _mm256_mul_ps(q, inv_dd), t1 = _mm256_div_ps(cc, q);
-    const __m256 tn = _mm256_min_ps(t0, t1), tf = _mm256_max_ps(t0, t1);
-    const __m256 tmin = _mm256_load_ps(rh->ray.tnear), tmax = _mm256_load_ps(rh->ray.tfar);
-    const __m256 t = _mm256_blendv_ps(tf, tn, _mm256_cmp_ps(tn, tmin, _CMP_GT_OQ));
-    const __m256 hit = _mm256_and_ps(_mm256_and_ps(any, _mm256_cmp_ps(t, tmin, _CMP_GT_OQ)), _mm256_cmp_ps(t, tmax, _CMP_LT_OQ));
-    if (_mm256_movemask_ps(hit) == 0) return;
-    _mm256_store_ps(rh->ray.tfar, _mm256_blendv_ps(tmax, t, hit));
-    put8(rh->hit.Ng_x, _mm256_fmadd_ps(dx, t, fx), hit);
-    put8(rh->hit.Ng_y, _mm256_fmadd_ps(dy, t, fy), hit);
-    put8(rh->hit.Ng_z, _mm256_fmadd_ps(dz, t, fz), hit);
-    put8(rh->hit.u, _mm256_setzero_ps(), hit);
-    put8(rh->hit.v, _mm256_setzero_ps(), hit);
-    put8(rh->hit.primID, args->primID, hit);
-    put8(rh->hit.geomID, args->geomID, hit);
-    put8(rh->hit.instID[0], args->context->instID[0], hit);
-}
-
-void user_intersect(const RTCIntersectFunctionNArguments* args) {
-    static const bool avx2 = simd_supported();
-    if (args->N == 8 && avx2) return user_intersect8(args);
-    for (unsigned i = 0; i < args->N; ++i)
-        if (args->valid[i] == -1) user_intersect1(args, i);
 }
 
 // ---- scenes ------------------------------------------------------------------
@@ -235,24 +136,7 @@ Peer& peer(bool floor, int n) {
     p.rays8.resize(p.rays.packets.size());
     p.valid8.resize(p.rays.packets.size());
     for (std::size_t k = 0; k < p.rays.packets.size(); ++k) {
-        const RayPacket8& r = p.rays.packets[k];
-        RTCRayHit8& e = p.rays8[k];
-        std::memset(&e, 0, sizeof e);
-        for (int i = 0; i < kPacketWidth; ++i) {
-            e.ray.org_x[i] = r.ox[i], e.ray.org_y[i] = r.oy[i], e.ray.org_z[i] = r.oz[i];
-            e.ray.dir_x[i] = r.dx[i], e.ray.dir_y[i] = r.dy[i], e.ray.dir_z[i] = r.dz[i];
-            e.ray.tnear[i] = r.tmin[i], e.ray.tfar[i] = r.tmax[i];
-            e.ray.mask[i] = ~0u, e.ray.id[i] = unsigned(k * kPacketWidth + std::size_t(i));
-            e.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID, e.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-            p.valid8[k][std::size_t(i)] = r.active[i] ? -1 : 0;
-            RTCRayHit one{};
-            one.ray.org_x = r.ox[i], one.ray.org_y = r.oy[i], one.ray.org_z = r.oz[i];
-            one.ray.dir_x = r.dx[i], one.ray.dir_y = r.dy[i], one.ray.dir_z = r.dz[i];
-            one.ray.tnear = r.tmin[i], one.ray.tfar = r.tmax[i];
-            one.ray.mask = ~0u, one.ray.id = e.ray.id[i];
-            one.hit.geomID = RTC_INVALID_GEOMETRY_ID, one.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-            p.rays1.push_back(one);
-        }
+        to_embree(p.rays.packets[k], k, p.rays8[k], p.valid8[k], p.rays1);
     }
     return p;
 }

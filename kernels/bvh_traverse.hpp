@@ -73,6 +73,7 @@
 #endif
 
 namespace octray::bvh {
+
 inline namespace OCTRAY_BVH_ISA {
 
 using lane::Mask;
@@ -108,8 +109,11 @@ struct WalkOptions {
     bool order_packet_children = true;
     // Packets of float lanes: walk the lanes of each direction octant as a
     // packet of their own (an incoherent packet's octants hold a lane or
-    // two each, which then walk as single rays from the root).
-    bool split_octants = true;
+    // two each, which then walk as single rays from the root). Off: on the
+    // kernels' own primitive tests the whole packet walking together until
+    // it diverges was faster at every size of the cost curve, incoherent
+    // rays 1.1-4.7x (docs/performance.md, issue 18).
+    bool split_octants = false;
 };
 
 namespace detail {

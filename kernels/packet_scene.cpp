@@ -1,4 +1,5 @@
 // kernels/packet_scene.cpp — Scene (AoS, double) -> PacketScene (SoA, float).
+#include "compile_options.hpp"
 #include "scene_data.hpp"
 #include <octray/reference.hpp>
 
@@ -124,6 +125,11 @@ void append_primitive(SceneData& s, const Shape& shape) {
 
 }  // namespace
 
+bvh::BuildOptions& compile_bvh_options() {
+    static bvh::BuildOptions options;
+    return options;
+}
+
 PacketScene::PacketScene() : data_(std::make_shared<SceneData>()) {}
 
 const Features& PacketScene::features() const noexcept { return data_->features; }
@@ -188,7 +194,7 @@ PacketScene compile(const Scene& scene) {
             input.kind.push_back(std::uint8_t(PrimitiveType::triangle));
         }
     }
-    s.bvh = bvh::build_bvh8(input);
+    s.bvh = bvh::build_bvh8(input, compile_bvh_options());
 
     const std::size_t total = id;
     s.object_of.resize(total);
