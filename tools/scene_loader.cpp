@@ -204,11 +204,21 @@ public:
 
     AmbientLight ambient(const Json& j, const std::string& path) const {
         expect_object(j, path);
-        reject_unknown(j, path, "ambient", {"color", "ls"});
+        reject_unknown(j, path, "ambient", {"color", "ls", "occlusion"});
         AmbientLight a;
         if (auto* c = optional(j, "color")) a.color = vec3(*c, member(path, "color"));
         if (auto* ls = optional(j, "ls")) a.ls = number(*ls, member(path, "ls"));
         return a;
+    }
+
+    AmbientOcclusion occlusion(const Json& j, const std::string& path) const {
+        expect_object(j, path);
+        reject_unknown(j, path, "occlusion", {"samples", "distance", "min_amount"});
+        AmbientOcclusion o;
+        if (auto* v = optional(j, "samples")) o.samples = integer(*v, member(path, "samples"));
+        if (auto* v = optional(j, "distance")) o.distance = number(*v, member(path, "distance"));
+        if (auto* v = optional(j, "min_amount")) o.min_amount = number(*v, member(path, "min_amount"));
+        return o;
     }
 
     void lights(const Json& j, const std::string& path, Scene& scene, SourceMap& source) const {
@@ -397,7 +407,10 @@ public:
         SourceMap source;
         s.camera = camera(required(root, "", "camera", "a scene"), "camera");
         if (auto* v = optional(root, "background")) s.background = vec3(*v, "background");
-        if (auto* v = optional(root, "ambient")) s.ambient = ambient(*v, "ambient");
+        if (auto* v = optional(root, "ambient")) {
+            s.ambient = ambient(*v, "ambient");
+            if (auto* o = optional(*v, "occlusion")) s.ambient_occlusion = occlusion(*o, "ambient.occlusion");
+        }
         if (auto* v = optional(root, "lights")) lights(*v, "lights", s, source);
         s.materials = materials(required(root, "", "materials", "a scene"), "materials");
         s.objects = objects(required(root, "", "objects", "a scene"), "objects", s.materials, s.meshes, source);
