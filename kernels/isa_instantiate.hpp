@@ -50,6 +50,14 @@ Kernel make_kernel_at(Path path, const char* isa, unsigned primitive_bits, unsig
         k.shade = shade_variants<T, P>(std::make_index_sequence<kLightVariants>{})[li];
         k.primitive_bits = pi;
         k.light_bits = li << kLightShift;
+        if ((light_bits & kOcclusion) != 0) {
+            // Occlusion doubles no table: the ambient-only light set (aobench,
+            // Suffern's occluder figures) has its own variant, every other set
+            // runs the general shade.
+            const bool ambient_only = (light_bits & ~kAllPrimitives) == (kAmbient | kOcclusion);
+            k.shade = ambient_only ? &shade_packet<T, P, kAmbient | kOcclusion> : &shade_packet<T, P, kAllFeatures>;
+            k.light_bits = ambient_only ? kAmbient | kOcclusion : kAllFeatures & ~kAllPrimitives;
+        }
     } else {
         (void)primitive_bits, (void)light_bits;
         k.intersect = &intersect_packet<T, P, kAllFeatures>;
