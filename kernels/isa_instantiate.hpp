@@ -50,6 +50,9 @@ Kernel make_kernel_at(Path path, const char* isa, unsigned primitive_bits, unsig
         k.shade = shade_variants<T, P>(std::make_index_sequence<kLightVariants>{})[li];
         k.primitive_bits = pi;
         k.light_bits = li << kLightShift;
+        // Spheres and planes alone (aobench's kind of scene): occluded walks
+        // those two types only, as the occlusion kernel's rays do.
+        if ((pi & ~unsigned(kSphere | kPlane)) == 0) k.occluded = &occluded_packet<T, P, kSphere | kPlane>;
         if ((light_bits & kOcclusion) != 0) {
             // Occlusion doubles no table: the ambient-only light set (aobench,
             // Suffern's occluder figures) has its own variant, every other set

@@ -36,7 +36,7 @@ enum class OcclusionLayout {
     samples,  // samples k .. k+7 of one pixel: ceil(N / 8) packets per pixel hit
 };
 // The kernels' choice: `pixels`, the faster of the two on scenes/aobench.json
-// (bench/bench_aobench.cpp, ao/stage/*; the README gives the figures).
+// (bench/bench_aobench.cpp, ao/shade/*; the README gives the figures).
 inline constexpr OcclusionLayout kOcclusionLayout = OcclusionLayout::pixels;
 
 // The primitive types sample rays test: the kernel's own when F names some,
@@ -184,33 +184,58 @@ inline void aim(Ray<T, P>& r, const Vec3<T>& d, const T& dist, const Mask<T>& va
 }
 
 // ---- the visible fraction -------------------------------------------------------
+// The sample rays of a group of lanes: their origin (shadow_ray's, off the
+// surface), the frame about each lane's facing normal, the pixel keys.
+template <class T, Precision P>
+struct OcclusionSamples {
+    Ray<T, P> ray;
+    Frame<T> frame;
+    Keys<T> pixel;
+    T dist;
+    Mask<T> hit;
+    // p, n: the hits' points and facing normals; reach: the camera rays' extent (shadow_ray).
+    OcclusionSamples(const SceneData& s, const Keys<T>& pixels, const Mask<T>& hits, const Vec3<T>& p, const Vec3<T>& n,
+                     const T& reach)
+        : frame(frame_about(n)), pixel(pixels), dist(s.occlusion.distance), hit(hits) {
+        shadow_ray(ray, p, n, n, dist, hit, reach);
+    }
+    // Sample k of every lane of `hit`, aimed (any_hit narrows ray.valid; the next call resets it).
+    Ray<T, P>& at(int k) {
+        T u1, u2;
+        uniforms<T>(pixel, splat_keys<T>(std::uint32_t(k)), u1, u2);
+        aim(ray, cosine_direction(frame, u1, u2), dist, hit);
+        return ray;
+    }
+};
+
 // Blocked sample count per lane, layout `samples`: each hit lane's rays as
 // packets of 8 of its samples from one origin.
 template <class T, Precision P, unsigned Occluders>
-inline T blocked_per_pixel(const SceneData& s, const RayPacket8& rp, int lane, const Mask<T>& hit, const Ray<T, P>& from,
-                           const Frame<T>& frame) {
+inline T blocked_per_pixel(const SceneData& s, const OcclusionSamples<T, P>& from) {
     using S = lane::Scalar<T>;
     constexpr int W = lane::width<T>;
     const int n = s.occlusion.samples;
     alignas(64) S v[12][W], blocked[W] = {}, iota[W];
-    const T* parts[12] = {&from.o.x,      &from.o.y,      &from.o.z,      &frame.b1.x, &frame.b1.y, &frame.b1.z,
-                          &frame.b2.x,    &frame.b2.y,    &frame.b2.z,   &frame.n.x,  &frame.n.y,  &frame.n.z};
+    alignas(64) std::uint32_t pixel[W];
+    const T* parts[12] = {&from.ray.o.x,   &from.ray.o.y,   &from.ray.o.z,   &from.frame.b1.x,
+                          &from.frame.b1.y, &from.frame.b1.z, &from.frame.b2.x, &from.frame.b2.y,
+                          &from.frame.b2.z, &from.frame.n.x,  &from.frame.n.y,  &from.frame.n.z};
     for (int j = 0; j < 12; ++j) parts[j]->store_aligned(v[j]);
+    from.pixel.store_aligned(pixel);
     for (int i = 0; i < W; ++i) iota[i] = S(i);
     const T lane_index = T::load_aligned(iota);
-    const T dist(s.occlusion.distance);
-    Ray<T, P> r = from;
-    for (unsigned on = lane::bits(hit); on != 0; on &= on - 1) {
+    Ray<T, P> r = from.ray;
+    for (unsigned on = lane::bits(from.hit); on != 0; on &= on - 1) {
         const int i = __builtin_ctz(on);
         r.o = {T(v[0][i]), T(v[1][i]), T(v[2][i])};
         const Frame<T> f{{T(v[3][i]), T(v[4][i]), T(v[5][i])}, {T(v[6][i]), T(v[7][i]), T(v[8][i])},
                          {T(v[9][i]), T(v[10][i]), T(v[11][i])}};
-        const Keys<T> pixel = splat_keys<T>(std::uint32_t(rp.pixel[lane + i]));
+        const Keys<T> key = splat_keys<T>(pixel[i]);
         int count = 0;
         for (int k0 = 0; k0 < n; k0 += W) {
             T u1, u2;
-            uniforms<T>(pixel, load_keys<T>(nullptr, 0, std::uint32_t(k0)), u1, u2);
-            aim(r, cosine_direction(f, u1, u2), dist, lane_index < T(S(n - k0)));
+            uniforms<T>(key, load_keys<T>(nullptr, 0, std::uint32_t(k0)), u1, u2);
+            aim(r, cosine_direction(f, u1, u2), from.dist, lane_index < T(S(n - k0)));
             count += lane::count(any_hit<T, P, Occluders>(s, r));
         }
         blocked[i] = S(count);
@@ -218,42 +243,53 @@ inline T blocked_per_pixel(const SceneData& s, const RayPacket8& rp, int lane, c
     return T::load_aligned(blocked);
 }
 
+// Blocked samples per lane: every sample of the lanes of `samples.hit`, in layout L.
+template <class T, Precision P, unsigned Occluders, OcclusionLayout L>
+inline T blocked_count(const SceneData& s, OcclusionSamples<T, P>& samples) {
+    if constexpr (L == OcclusionLayout::samples && lane::width<T> > 1 && std::is_same_v<lane::Scalar<T>, float>) {
+        return blocked_per_pixel<T, P, Occluders>(s, samples);
+    } else {
+        T blocked(0);
+        for (int k = 0; k < s.occlusion.samples; ++k)
+            blocked = blocked + lane::keep(any_hit<T, P, Occluders>(s, samples.at(k)), T(1));
+        return blocked;
+    }
+}
+
+// Not a scene feature: a kernel variant whose F has this bit groups its
+// sample rays by pixel (layout `samples`); bench/bench_aobench.cpp times it.
+inline constexpr unsigned kOcclusionBySample = 1u << 31;
+
 // max(min_amount, visible fraction) on the lanes of `hit` (1 elsewhere, and
 // on every lane of a scene without occlusion); p and n are the hits' points
 // and facing normals, reach the camera rays' extent (shadow_ray).
-template <class T, Precision P, unsigned F, OcclusionLayout L>
-inline T occlusion_factor_in(const SceneData& s, const RayPacket8& rp, int lane, const Mask<T>& hit, const Vec3<T>& p,
-                             const Vec3<T>& n, const T& reach) {
+template <class T, Precision P, unsigned F>
+T occlusion_factor(const SceneData& s, const RayPacket8& rp, int lane, const Mask<T>& hit, const Vec3<T>& p,
+                   const Vec3<T>& n, const T& reach) {
     const OcclusionData& ao = s.occlusion;
     if (ao.samples == 0 || !lane::any(hit)) return T(1);
     constexpr unsigned Occluders = occluders(F);
-    const T dist(ao.distance);
-    // Sample rays leave the surface as shadow rays do: the origin is shadow_ray's.
-    Ray<T, P> r;
-    shadow_ray(r, p, n, n, dist, hit, reach);
-    const Frame<T> frame = frame_about(n);
+    constexpr OcclusionLayout L = (F & kOcclusionBySample) != 0 ? OcclusionLayout::samples : kOcclusionLayout;
+    OcclusionSamples<T, P> samples(s, load_keys<T>(rp.pixel, lane), hit, p, n, reach);
+    // Spheres and planes alone (aobench's kind of scene): sample rays walk
+    // those two types only. The walk of all six tests each absent type for
+    // nothing, out of line on the SIMD path (callgrind, scenes/aobench.json
+    // at 128x128: 14% of its instructions).
+    constexpr unsigned kAnalytic = kSphere | kPlane;
+    const auto absent = [&](PrimitiveType t) { return s.count[std::size_t(t)] == 0; };
+    const bool analytic = absent(PrimitiveType::disk) && absent(PrimitiveType::rectangle) &&
+                          absent(PrimitiveType::box) && absent(PrimitiveType::triangle);
     T blocked(0);
-    if constexpr (L == OcclusionLayout::samples && lane::width<T> > 1) {
-        blocked = blocked_per_pixel<T, P, Occluders>(s, rp, lane, hit, r, frame);
+    if constexpr ((Occluders & kAnalytic) != 0 && (Occluders & ~kAnalytic) != 0) {
+        if (analytic) blocked = blocked_count<T, P, Occluders & kAnalytic, L>(s, samples);
+        else blocked = blocked_count<T, P, Occluders, L>(s, samples);
     } else {
-        const Keys<T> pixel = load_keys<T>(rp.pixel, lane);
-        for (int k = 0; k < ao.samples; ++k) {
-            T u1, u2;
-            uniforms<T>(pixel, splat_keys<T>(std::uint32_t(k)), u1, u2);
-            aim(r, cosine_direction(frame, u1, u2), dist, hit);
-            blocked = blocked + lane::keep(any_hit<T, P, Occluders>(s, r), T(1));
-        }
+        blocked = blocked_count<T, P, Occluders, L>(s, samples);
     }
     // (N - k) / N correctly rounded, as float(the reference's double).
     const T count(float(ao.samples));
     const T visible = (count - blocked) / count;
     return lane::select(hit, lane::max(visible, T(ao.min_amount)), T(1));
-}
-
-template <class T, Precision P, unsigned F>
-T occlusion_factor(const SceneData& s, const RayPacket8& rp, int lane, const Mask<T>& hit, const Vec3<T>& p,
-                   const Vec3<T>& n, const T& reach) {
-    return occlusion_factor_in<T, P, F, kOcclusionLayout>(s, rp, lane, hit, p, n, reach);
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA
