@@ -31,6 +31,7 @@
 // stops with SkipWithError. `octray_bench_embree --crosscheck` prints the
 // whole table and exits 1 on any failure (a CTest test).
 #include "bench_common.hpp"
+#include "embree_spheres.hpp"
 
 #include <embree3/rtcore.h>
 #include <immintrin.h>
@@ -76,44 +77,20 @@ std::string embree_isa_guess(RTCDevice d) {
     return "sse (native ray4)";
 }
 
-// ---- user-geometry spheres -----------------------------------------------------------
-struct UserSpheres {
-    std::vector<float> xyzr;  // center and radius per sphere
-};
-
-void user_bounds(const RTCBoundsFunctionArguments* args) {
-    const auto* s = static_cast<const UserSpheres*>(args->geometryUserPtr);
-    const float* c = &s->xyzr[4 * std::size_t(args->primID)];
-    RTCBounds* b = args->bounds_o;
-    b->lower_x = c[0] - c[3], b->lower_y = c[1] - c[3], b->lower_z = c[2] - c[3];
-    b->upper_x = c[0] + c[3], b->upper_y = c[1] + c[3], b->upper_z = c[2] + c[3];
-}
-
-// One lane: octray's stable quadratic (kernels/packet_kernels.hpp sphere_t).
+// ---- user-geometry spheres (embree_spheres.hpp) ----------------------------------------
 void user_intersect1(const RTCIntersectFunctionNArguments* args, unsigned i) {
     const auto* s = static_cast<const UserSpheres*>(args->geometryUserPtr);
     const float* c = &s->xyzr[4 * std::size_t(args->primID)];
     RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
     RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
     const unsigned N = args->N;
-    const float ox = RTCRayN_org_x(ray, N, i), oy = RTCRayN_org_y(ray, N, i), oz = RTCRayN_org_z(ray, N, i);
-    const float dx = RTCRayN_dir_x(ray, N, i), dy = RTCRayN_dir_y(ray, N, i), dz = RTCRayN_dir_z(ray, N, i);
-    const float fx = ox - c[0], fy = oy - c[1], fz = oz - c[2], r2 = c[3] * c[3];
-    const float b = fx * dx + fy * dy + fz * dz, dd = dx * dx + dy * dy + dz * dz;
-    const float inv_dd = 1.0f / dd, s_ = b * inv_dd;
-    const float px = fx - dx * s_, py = fy - dy * s_, pz = fz - dz * s_;
-    const float disc = r2 - (px * px + py * py + pz * pz);
-    if (!(disc >= 0.0f)) return;
-    const float sd = std::sqrt(disc * dd);
-    const float cc = fx * fx + fy * fy + fz * fz - r2;
-    const float q = -(b + std::copysign(sd, b));
-    const float t0 = q * inv_dd, t1 = cc / q;
-    const float tnear = std::min(t0, t1), tfar = std::max(t0, t1);
-    const float tmin = RTCRayN_tnear(ray, N, i);
-    const float t = tnear > tmin ? tnear : tfar;
-    if (!(t > tmin && t < RTCRayN_tfar(ray, N, i))) return;
-    RTCRayN_tfar(ray, N, i) = t;
-    RTCHitN_Ng_x(hit, N, i) = fx + dx * t, RTCHitN_Ng_y(hit, N, i) = fy + dy * t, RTCHitN_Ng_z(hit, N, i) = fz + dz * t;
+    const float o[3] = {RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i)};
+    const float d[3] = {RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i)};
+    SphereHit1 h;
+    if (!sphere_hit1(c, o, d, RTCRayN_tnear(ray, N, i), RTCRayN_tfar(ray, N, i), h)) return;
+    RTCRayN_tfar(ray, N, i) = h.t;
+    RTCHitN_Ng_x(hit, N, i) = h.fx + d[0] * h.t, RTCHitN_Ng_y(hit, N, i) = h.fy + d[1] * h.t;
+    RTCHitN_Ng_z(hit, N, i) = h.fz + d[2] * h.t;
     RTCHitN_u(hit, N, i) = 0, RTCHitN_v(hit, N, i) = 0;
     RTCHitN_primID(hit, N, i) = args->primID;
     RTCHitN_geomID(hit, N, i) = args->geomID;
@@ -131,37 +108,14 @@ __attribute__((target("avx2,fma"), always_inline)) inline void put8(unsigned* ds
 // Eight lanes at once, the same arithmetic with AVX2 + FMA.
 __attribute__((target("avx2,fma"))) void user_intersect8(const RTCIntersectFunctionNArguments* args) {
     const auto* s = static_cast<const UserSpheres*>(args->geometryUserPtr);
-    const float* c = &s->xyzr[4 * std::size_t(args->primID)];
     RTCRayHit8* rh = reinterpret_cast<RTCRayHit8*>(args->rayhit);
-    const __m256 valid = _mm256_castsi256_ps(_mm256_cmpeq_epi32(
-        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(args->valid)), _mm256_set1_epi32(-1)));
-    const __m256 dx = _mm256_load_ps(rh->ray.dir_x), dy = _mm256_load_ps(rh->ray.dir_y), dz = _mm256_load_ps(rh->ray.dir_z);
-    const __m256 fx = _mm256_sub_ps(_mm256_load_ps(rh->ray.org_x), _mm256_set1_ps(c[0]));
-    const __m256 fy = _mm256_sub_ps(_mm256_load_ps(rh->ray.org_y), _mm256_set1_ps(c[1]));
-    const __m256 fz = _mm256_sub_ps(_mm256_load_ps(rh->ray.org_z), _mm256_set1_ps(c[2]));
-    const __m256 r2 = _mm256_set1_ps(c[3] * c[3]);
-    const __m256 b = _mm256_fmadd_ps(fx, dx, _mm256_fmadd_ps(fy, dy, _mm256_mul_ps(fz, dz)));
-    const __m256 dd = _mm256_fmadd_ps(dx, dx, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dz, dz)));
-    const __m256 inv_dd = _mm256_div_ps(_mm256_set1_ps(1.0f), dd);
-    const __m256 sb = _mm256_mul_ps(b, inv_dd);
-    const __m256 px = _mm256_fnmadd_ps(dx, sb, fx), py = _mm256_fnmadd_ps(dy, sb, fy), pz = _mm256_fnmadd_ps(dz, sb, fz);
-    const __m256 disc = _mm256_sub_ps(r2, _mm256_fmadd_ps(px, px, _mm256_fmadd_ps(py, py, _mm256_mul_ps(pz, pz))));
-    const __m256 any = _mm256_and_ps(valid, _mm256_cmp_ps(disc, _mm256_setzero_ps(), _CMP_GE_OQ));
-    if (_mm256_movemask_ps(any) == 0) return;
-    const __m256 sd = _mm256_sqrt_ps(_mm256_max_ps(_mm256_mul_ps(disc, dd), _mm256_setzero_ps()));
-    const __m256 cc = _mm256_sub_ps(_mm256_fmadd_ps(fx, fx, _mm256_fmadd_ps(fy, fy, _mm256_mul_ps(fz, fz))), r2);
-    const __m256 sign = _mm256_set1_ps(-0.0f);
-    const __m256 q = _mm256_xor_ps(_mm256_add_ps(b, _mm256_or_ps(sd, _mm256_and_ps(b, sign))), sign);
-    const __m256 t0 = _mm256_mul_ps(q, inv_dd), t1 = _mm256_div_ps(cc, q);
-    const __m256 tn = _mm256_min_ps(t0, t1), tf = _mm256_max_ps(t0, t1);
-    const __m256 tmin = _mm256_load_ps(rh->ray.tnear), tmax = _mm256_load_ps(rh->ray.tfar);
-    const __m256 t = _mm256_blendv_ps(tf, tn, _mm256_cmp_ps(tn, tmin, _CMP_GT_OQ));
-    const __m256 hit = _mm256_and_ps(_mm256_and_ps(any, _mm256_cmp_ps(t, tmin, _CMP_GT_OQ)), _mm256_cmp_ps(t, tmax, _CMP_LT_OQ));
+    const SphereHit8 h = sphere_hit8(&s->xyzr[4 * std::size_t(args->primID)], rh->ray, valid_mask8(args->valid));
+    const __m256 hit = h.hit, t = h.t;
     if (_mm256_movemask_ps(hit) == 0) return;
-    _mm256_store_ps(rh->ray.tfar, _mm256_blendv_ps(tmax, t, hit));
-    put8(rh->hit.Ng_x, _mm256_fmadd_ps(dx, t, fx), hit);
-    put8(rh->hit.Ng_y, _mm256_fmadd_ps(dy, t, fy), hit);
-    put8(rh->hit.Ng_z, _mm256_fmadd_ps(dz, t, fz), hit);
+    _mm256_store_ps(rh->ray.tfar, _mm256_blendv_ps(_mm256_load_ps(rh->ray.tfar), t, hit));
+    put8(rh->hit.Ng_x, _mm256_fmadd_ps(_mm256_load_ps(rh->ray.dir_x), t, h.fx), hit);
+    put8(rh->hit.Ng_y, _mm256_fmadd_ps(_mm256_load_ps(rh->ray.dir_y), t, h.fy), hit);
+    put8(rh->hit.Ng_z, _mm256_fmadd_ps(_mm256_load_ps(rh->ray.dir_z), t, h.fz), hit);
     put8(rh->hit.u, _mm256_setzero_ps(), hit);
     put8(rh->hit.v, _mm256_setzero_ps(), hit);
     put8(rh->hit.primID, args->primID, hit);
@@ -261,52 +215,12 @@ Peer& peer(bool floor, int n) {
 RTCScene embree_scene(Peer& p, bool user, bool avx2) {
     const int key = int(user) * 2 + int(avx2);
     if (auto it = p.embree.find(key); it != p.embree.end()) return it->second;
-    RTCDevice dev = device(avx2);
-    RTCScene scene = nullptr;
-    if (dev) {
-        scene = rtcNewScene(dev);
-        rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-        RTCGeometry g;
-        if (user) {
-            g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
-            rtcSetGeometryUserPrimitiveCount(g, unsigned(p.n));
-            rtcSetGeometryUserData(g, &p.spheres);
-            rtcSetGeometryBoundsFunction(g, user_bounds, nullptr);
-            rtcSetGeometryIntersectFunction(g, user_intersect);
-        } else {
-            g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                                  4 * sizeof(float), std::size_t(p.n)));
-            std::memcpy(v, p.spheres.xyzr.data(), p.spheres.xyzr.size() * sizeof(float));
-        }
-        rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
-        rtcCommitGeometry(g);
-        rtcAttachGeometryByID(scene, g, 0);
-        rtcReleaseGeometry(g);
-        if (p.floor) {
-            RTCGeometry q = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_QUAD);
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(q, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
-            const float h = p.quad_half, y = -1.25f;
-            const float corners[12] = {-h, y, -h, -h, y, h, h, y, h, h, y, -h};
-            std::memcpy(v, corners, sizeof corners);
-            auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(q, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), 1));
-            idx[0] = 0, idx[1] = 1, idx[2] = 2, idx[3] = 3;
-            rtcCommitGeometry(q);
-            rtcAttachGeometryByID(scene, q, 1);
-            rtcReleaseGeometry(q);
-        }
-        rtcCommitScene(scene);
-    }
+    RTCScene scene = sphere_scene(device(avx2), p.spheres, user, user_intersect, nullptr, -1.25f, p.floor ? p.quad_half : 0.0f);
     p.embree[key] = scene;
     return scene;
 }
 
-RTCIntersectContext coherent_context() {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    return ctx;
-}
+RTCIntersectContext coherent_context() { return intersect_context(RTC_INTERSECT_CONTEXT_FLAG_COHERENT); }
 
 // One pass of Embree over the whole ray set, working copies in place.
 void embree_pass8(RTCScene scene, AlignedVec<RTCRayHit8>& rh, const AlignedVec<std::array<int, 8>>& valid) {
