@@ -4,6 +4,9 @@
 //
 //   ao/render/{simd,scalar}   render_rows over the whole 512x512 image, the
 //                             kernels select_kernel picks (the CLI's).
+//   ao/render/spheres+plane:64/{simd,scalar}
+//                             the same on 64 spheres over a plane: how the
+//                             spheres' culling holds up with incoherent rays.
 //   ao/shade/{pixels,samples}/simd, ao/shade/pixels/scalar
 //                             the shade stage alone on the image's camera hits,
 //                             per packet layout of the occlusion rays
@@ -104,6 +107,33 @@ void bm_render(benchmark::State& st, Path path) {
         benchmark::ClobberMemory();
     }
     rays_per_second(st, s.occlusion_rays, k.name() + ", occlusion rays");
+}
+
+// The same on 64 spheres over a plane (bench_common's grid, 256x256, ambient
+// only, 16 samples): the acceleration structure over the spheres decides
+// what a packet of incoherent rays tests.
+void bm_render_grid(benchmark::State& st, Path path) {
+    static const PacketScene ps = [] {
+        Scene s = grid_scene(Layout::sphere, 64, true, 256, 256);
+        s.directional_lights.clear();
+        s.ambient_occlusion = AmbientOcclusion{16, 1e30, 0};
+        return compile(s);
+    }();
+    const Kernel k = select_kernel(ps, path);
+    Image<float> hdr(ps.width(), ps.height());
+    RenderCounters counters;
+    for (auto _ : st) {
+        counters = {};
+        render_rows(k, ps, 0, ps.height(), hdr, nullptr, &counters);
+        benchmark::ClobberMemory();
+    }
+    std::int64_t hits = 0;
+    {
+        const RaySet rays = camera_rays(ps);
+        for (const HitPacket8& h : trace(k, ps, rays))
+            for (int i = 0; i < kPacketWidth; ++i) hits += h.hit[i] != 0;
+    }
+    rays_per_second(st, hits * 16, k.name() + ", occlusion rays");
 }
 
 // ---- the shade stage, per layout --------------------------------------------------------
@@ -386,6 +416,9 @@ constexpr Variant kEmbree[] = {{"embree8_native", false, true}, {"embree8_user",
 void register_all() {
     benchmark::RegisterBenchmark("ao/render/simd", [](benchmark::State& st) { bm_render(st, Path::simd); });
     benchmark::RegisterBenchmark("ao/render/scalar", [](benchmark::State& st) { bm_render(st, Path::scalar); });
+    for (Path path : {Path::simd, Path::scalar})
+        benchmark::RegisterBenchmark((std::string("ao/render/spheres+plane:64/") + path_name(path)).c_str(),
+                                     [path](benchmark::State& st) { bm_render_grid(st, path); });
     benchmark::RegisterBenchmark("ao/shade/pixels/simd",
                                  [](benchmark::State& st) { bm_shade<T8, kAoLights>(st, "avx2, 8 pixels' k-th samples a packet"); });
     benchmark::RegisterBenchmark("ao/shade/samples/simd", [](benchmark::State& st) {
