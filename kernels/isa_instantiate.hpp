@@ -35,6 +35,9 @@ const ShadeFn* shade_variants(std::index_sequence<I...>) {
     return table;
 }
 
+// Spheres and planes: the primitive set of the occlusion variant and of occluded's own.
+inline constexpr unsigned kAnalytic = kSphere | kPlane;
+
 template <class T, Precision P, bool Specialize>
 Kernel make_kernel_at(Path path, const char* isa, unsigned primitive_bits, unsigned light_bits) {
     Kernel k;
@@ -52,14 +55,15 @@ Kernel make_kernel_at(Path path, const char* isa, unsigned primitive_bits, unsig
         k.light_bits = li << kLightShift;
         // Spheres and planes alone (aobench's kind of scene): occluded walks
         // those two types only, as the occlusion kernel's rays do.
-        if ((pi & ~unsigned(kSphere | kPlane)) == 0) k.occluded = &occluded_packet<T, P, kSphere | kPlane>;
+        if ((pi & ~kAnalytic) == 0) k.occluded = &occluded_packet<T, P, kAnalytic>;
         if ((light_bits & kOcclusion) != 0) {
-            // Occlusion doubles no table: the ambient-only light set (aobench,
-            // Suffern's occluder figures) has its own variant, every other set
-            // runs the general shade.
-            const bool ambient_only = (light_bits & ~kAllPrimitives) == (kAmbient | kOcclusion);
-            k.shade = ambient_only ? &shade_packet<T, P, kAmbient | kOcclusion> : &shade_packet<T, P, kAllFeatures>;
-            k.light_bits = ambient_only ? kAmbient | kOcclusion : kAllFeatures & ~kAllPrimitives;
+            // Occlusion doubles no table: an ambient-only scene of spheres and
+            // planes (aobench; Suffern's occluder figures) has its own variant,
+            // whose sample rays walk those two types only; every other scene
+            // with occlusion runs the general shade.
+            const bool own = (light_bits & ~kAllPrimitives) == (kAmbient | kOcclusion) && (pi & ~kAnalytic) == 0;
+            k.shade = own ? &shade_packet<T, P, kAmbient | kOcclusion | kAnalytic> : &shade_packet<T, P, kAllFeatures>;
+            k.light_bits = own ? kAmbient | kOcclusion : kAllFeatures & ~kAllPrimitives;
         }
     } else {
         (void)primitive_bits, (void)light_bits;

@@ -39,8 +39,11 @@ enum class OcclusionLayout {
 // (bench/bench_aobench.cpp, ao/shade/*; the README gives the figures).
 inline constexpr OcclusionLayout kOcclusionLayout = OcclusionLayout::pixels;
 
-// The primitive types sample rays test: the kernel's own when F names some,
-// else all (shade variants carry light bits only).
+// The primitive types sample rays test: the variant's own when F names some
+// (the ambient-only variant for spheres and planes, isa_instantiate.hpp: the
+// walk of all six tests each absent type for nothing, out of line on the SIMD
+// path; callgrind, scenes/aobench.json at 128x128: 14% of its instructions),
+// else all (the general shade).
 inline constexpr unsigned occluders(unsigned features) {
     return (features & kAllPrimitives) != 0 ? features & kAllPrimitives : kAllPrimitives;
 }
@@ -271,21 +274,7 @@ T occlusion_factor(const SceneData& s, const RayPacket8& rp, int lane, const Mas
     constexpr unsigned Occluders = occluders(F);
     constexpr OcclusionLayout L = (F & kOcclusionBySample) != 0 ? OcclusionLayout::samples : kOcclusionLayout;
     OcclusionSamples<T, P> samples(s, load_keys<T>(rp.pixel, lane), hit, p, n, reach);
-    // Spheres and planes alone (aobench's kind of scene): sample rays walk
-    // those two types only. The walk of all six tests each absent type for
-    // nothing, out of line on the SIMD path (callgrind, scenes/aobench.json
-    // at 128x128: 14% of its instructions).
-    constexpr unsigned kAnalytic = kSphere | kPlane;
-    const auto absent = [&](PrimitiveType t) { return s.count[std::size_t(t)] == 0; };
-    const bool analytic = absent(PrimitiveType::disk) && absent(PrimitiveType::rectangle) &&
-                          absent(PrimitiveType::box) && absent(PrimitiveType::triangle);
-    T blocked(0);
-    if constexpr ((Occluders & kAnalytic) != 0 && (Occluders & ~kAnalytic) != 0) {
-        if (analytic) blocked = blocked_count<T, P, Occluders & kAnalytic, L>(s, samples);
-        else blocked = blocked_count<T, P, Occluders, L>(s, samples);
-    } else {
-        blocked = blocked_count<T, P, Occluders, L>(s, samples);
-    }
+    const T blocked = blocked_count<T, P, Occluders, L>(s, samples);
     // (N - k) / N correctly rounded, as float(the reference's double).
     const T count(float(ao.samples));
     const T visible = (count - blocked) / count;

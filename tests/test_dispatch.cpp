@@ -19,11 +19,12 @@ using namespace octray::test;
 
 namespace {
 // The feature bits of the variant dispatch runs for a scene's: its own,
-// but with occlusion the ambient-only variant or the general shade
-// (kernels/isa_instantiate.hpp).
+// but with occlusion the ambient-only variant for spheres and planes or the
+// general shade (kernels/isa_instantiate.hpp).
 unsigned compiled_bits(unsigned bits) {
     const unsigned lights = bits & ~kAllPrimitives;
-    if ((bits & kOcclusion) == 0 || lights == (kAmbient | kOcclusion)) return bits;
+    const bool own = lights == (kAmbient | kOcclusion) && (bits & kAllPrimitives & ~(kSphere | kPlane)) == 0;
+    if ((bits & kOcclusion) == 0 || own) return bits;
     return (bits & kAllPrimitives) | (kAllFeatures & ~kAllPrimitives);
 }
 }  // namespace
