@@ -205,8 +205,7 @@ void validate(const Scene& scene) {
     camera(scene.camera);
     colour("background", scene.background);
     if (scene.ambient) colour("ambient.color", scene.ambient->color), non_negative("ambient.ls", scene.ambient->ls);
-    // Named by its JSON path (Scene::ambient_occlusion is the file's ambient.occlusion).
-    if (scene.ambient_occlusion) occlusion("ambient.occlusion", *scene.ambient_occlusion, scene.ambient.has_value());
+    if (scene.ambient_occlusion) occlusion("ambient_occlusion", *scene.ambient_occlusion, scene.ambient.has_value());
     for (std::size_t i = 0; i < scene.directional_lights.size(); ++i) {
         const std::string p = "directional_lights[" + std::to_string(i) + "]";
         const DirectionalLight& l = scene.directional_lights[i];

@@ -56,14 +56,17 @@ std::string describe(const Json& v) {
 }
 
 // Where the Scene's lights and materials stand in the file. validate() names
-// Scene paths; two of them differ from the file's: the file's one `lights`
-// array is split into directional_lights and point_lights, and materials are
-// an object keyed by name, not an array.
+// Scene paths; some differ from the file's: the file's one `lights` array is
+// split into directional_lights and point_lights, materials are an object
+// keyed by name, not an array, and ambient.occlusion is Scene::ambient_occlusion.
 struct SourceMap {
     std::vector<std::size_t> directional, point;  // the `lights` index of each Scene light
     std::vector<std::size_t> mesh;                // the `objects` index of each Scene mesh
 
     std::string json_path(const std::string& scene_path, const Scene& scene) const {
+        static const std::string occlusion = "ambient_occlusion";  // the file's ambient.occlusion
+        if (scene_path.compare(0, occlusion.size(), occlusion) == 0)
+            return "ambient.occlusion" + scene_path.substr(occlusion.size());
         const auto open = scene_path.find('['), close = scene_path.find(']');
         if (open == std::string::npos || close == std::string::npos || close < open) return scene_path;
         const std::string head = scene_path.substr(0, open), rest = scene_path.substr(close + 1);
