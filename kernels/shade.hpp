@@ -100,8 +100,8 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     const T m = lane::keep(hit, load_index<T>(hp.material, lane));
     // |t|: with tmin < 0 a hit may lie behind the origin (t < 0).
     [[maybe_unused]] T reach = lane::abs(t) * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
-    // Point lights and shadow rays use p: a small sphere's from its frame.
-    if constexpr ((F & kSphere) != 0 && (F & (kPoint | kPointAttenuated | kShadows)) != 0) {
+    // Point lights, shadow rays and occlusion rays use p: a small sphere's from its frame.
+    if constexpr ((F & kSphere) != 0 && (F & (kPoint | kPointAttenuated | kShadows | kOcclusion)) != 0) {
         if (lane::any(hit))
             reach = lane::keep(
                 lane::not_(sphere_surface_point(s, load_index<T>(hp.primitive, lane), hit, o, d, t, reach, n, p)), reach);
@@ -167,7 +167,9 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     c = {lane::max(c.x, T(0)), lane::max(c.y, T(0)), lane::max(c.z, T(0))};
     if constexpr ((F & kAmbient) != 0) {
         Vec3<T> ambient = material(s.ambient_r, s.ambient_g, s.ambient_b);
-        if constexpr ((F & kOcclusion) != 0) ambient = ambient * occlusion_factor<T, P, F>(s, rp, lane, hit, p, n, reach);
+        // The general kernel (F = kAllFeatures) runs a scene without occlusion too: samples 0, no factor.
+        if constexpr ((F & kOcclusion) != 0)
+            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F>(s, rp, lane, hit, p, n, reach);
         c += ambient;
     }
     store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));
