@@ -14,6 +14,7 @@
 #include <octray/reference.hpp>
 
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -146,6 +147,48 @@ TEST_CASE("occlusion: the centre of the floor inside a closed box sees nothing; 
         for (const auto& k : f.kernels)
             for (float x : k) CHECK(x == float(min_amount));
     }
+}
+
+TEST_CASE("occlusion: inside a closed box of mesh triangles (the BVH's any-hit walk) the floor sees nothing") {
+    // The box [-1, 1] x [0, 2] x [-1, 1] as one indexed mesh, wound outward.
+    Mesh box;
+    for (int i = 0; i < 8; ++i) box.vertices.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 2.0 : 0.0, i & 4 ? 1.0 : -1.0});
+    box.indices = {0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2,
+                   1, 3, 7, 1, 7, 5, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
+    for (double min_amount : {0.0, 0.25}) {
+        CAPTURE(min_amount);
+        Scene s = occlusion_scene(64, 1e30, min_amount);
+        s.meshes.push_back(box);
+        const Factors f = factors_at(s, {0.3, 1, 0.1}, {0, -1, 0}, 16);  // down to the floor, off its diagonal
+        for (double x : f.reference) CHECK(x == min_amount);
+        for (const auto& k : f.kernels)
+            for (float x : k) CHECK(x == float(min_amount));
+    }
+}
+
+TEST_CASE("occlusion among 2000 spheres with a shadowing light (the general shade, the BVH walk) agrees with the reference") {
+    std::mt19937 rng(20);
+    std::uniform_real_distribution<double> u(-1, 1);
+    Scene scene = occlusion_scene(8, 1.5, 0.05);
+    scene.camera.eye = {0, 3, 4};
+    scene.camera.look_at = {0, 0, 0};
+    scene.camera.width = scene.camera.height = 32;
+    scene.materials[0].kd = 0.6;
+    scene.directional_lights.push_back({{0.3, 1, 0.2}, {1, 1, 1}, 1.0, true});
+    scene.objects.push_back(Object{Plane{{0, 0, 0}, {0, 1, 0}}, 0});
+    for (int i = 0; i < 2000; ++i)
+        scene.objects.push_back(Object{Sphere{{2 * u(rng), 0.3 + 0.25 * u(rng), 2 * u(rng)}, 0.06}, 0});
+    const PacketScene ps = compile(scene);
+    const ReferenceRender ref = render_reference(scene);
+    for (Isa isa : simd_isas())
+        for (Path path : {Path::scalar, Path::simd}) {
+            const Kernel k = select_kernel(ps, path, Precision::exact, isa);
+            CAPTURE(k.name());
+            const PacketRender out = render_packet(k, ps);
+            const Agreement a = compare(ref, out.radiance, out.primitive);
+            CHECK(a.within(Tolerance{}));
+            CHECK(double(a.occlusion_grazing) <= 0.05 * double(a.lanes));
+        }
 }
 
 TEST_CASE("occlusion: beside an infinite wall, the visible fraction is the closed form for cosine sampling") {
