@@ -285,6 +285,11 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
         const std::int32_t ref = stack_ref[top];
         const Mask<T> on = group && active && pop_t() <= grow(tbest);
         if (!lane::any(on)) continue;
+        if (ref < 0) {  // a leaf: one call for all its lanes, however few (a single-ray walk would call it per lane)
+            leaf(bvh.leaves[std::size_t(~ref)], on);
+            if (!Closest && !lane::any(active)) return;
+            continue;
+        }
         if constexpr (kFloat && W > 1) {
             if (lane::count(on) <= single_lanes) {
                 const T t = pop_t();
@@ -296,11 +301,6 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
                 }
                 continue;
             }
-        }
-        if (ref < 0) {
-            leaf(bvh.leaves[std::size_t(~ref)], on);
-            if (!Closest && !lane::any(active)) return;
-            continue;
         }
         const Node8& node = bvh.nodes[std::size_t(ref)];
         const T limit = tbest;
@@ -341,13 +341,23 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
     }
 }
 
+// Any hit on a tree of at most this many levels of nodes walks a packet
+// whole, whatever its octants: an incoherent packet (ambient occlusion's
+// rays) split by octant walks as single rays, each calling the few leaves
+// for itself, where the whole packet's one node test and one call per leaf
+// serve all lanes (bench/bench_aobench.cpp; docs/performance.md). An any-hit
+// answer does not depend on the order of the walk; closest hit keeps the
+// split (its order decides ties).
+inline constexpr int kShallowAnyHit = 2;
+
 template <bool Closest, class T, class LeafFn>
 void walk(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, const T& tbest, LeafFn& leaf,
           const WalkOptions& opt) {
     if (bvh.empty() || !lane::any(active)) return;
     if constexpr (lane::width<T> == 1 && std::is_same_v<T, float>) {
         walk_single<Closest>(bvh, 0, -std::numeric_limits<float>::infinity(), single_ray(r, 0), 0, active, tbest, leaf);
-    } else if (std::is_same_v<lane::Scalar<T>, float> && lane::width<T> > 1 && opt.split_octants) {
+    } else if (std::is_same_v<lane::Scalar<T>, float> && lane::width<T> > 1 && opt.split_octants &&
+               (Closest || bvh.depth > kShallowAnyHit)) {
         // One walk per direction octant among the active lanes.
         const unsigned neg[3] = {lane::bits(r.inv_dx < T(0)), lane::bits(r.inv_dy < T(0)), lane::bits(r.inv_dz < T(0))};
         for (unsigned left = lane::bits(active); left != 0;) {
