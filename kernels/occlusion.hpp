@@ -40,10 +40,9 @@ enum class OcclusionLayout {
 inline constexpr OcclusionLayout kOcclusionLayout = OcclusionLayout::pixels;
 
 // The primitive types sample rays test: the variant's own when F names some
-// (the ambient-only variant for spheres and planes, isa_instantiate.hpp: the
-// walk of all six tests each absent type for nothing, out of line on the SIMD
-// path; callgrind, scenes/aobench.json at 128x128: 14% of its instructions),
-// else all (the general shade).
+// (the ambient-only variant for spheres and planes, isa_instantiate.hpp: its
+// BVH leaves compile those two types' tests only), else all (the general
+// shade). Either way the rays go through any_hit, the shadow rays' BVH walk.
 inline constexpr unsigned occluders(unsigned features) {
     return (features & kAllPrimitives) != 0 ? features & kAllPrimitives : kAllPrimitives;
 }
