@@ -145,52 +145,12 @@ Peer& peer(bool floor, int n) {
 RTCScene embree_scene(Peer& p, bool user, bool avx2) {
     const int key = int(user) * 2 + int(avx2);
     if (auto it = p.embree.find(key); it != p.embree.end()) return it->second;
-    RTCDevice dev = device(avx2);
-    RTCScene scene = nullptr;
-    if (dev) {
-        scene = rtcNewScene(dev);
-        rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-        RTCGeometry g;
-        if (user) {
-            g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
-            rtcSetGeometryUserPrimitiveCount(g, unsigned(p.n));
-            rtcSetGeometryUserData(g, &p.spheres);
-            rtcSetGeometryBoundsFunction(g, user_bounds, nullptr);
-            rtcSetGeometryIntersectFunction(g, user_intersect);
-        } else {
-            g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                                  4 * sizeof(float), std::size_t(p.n)));
-            std::memcpy(v, p.spheres.xyzr.data(), p.spheres.xyzr.size() * sizeof(float));
-        }
-        rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
-        rtcCommitGeometry(g);
-        rtcAttachGeometryByID(scene, g, 0);
-        rtcReleaseGeometry(g);
-        if (p.floor) {
-            RTCGeometry q = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_QUAD);
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(q, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
-            const float h = p.quad_half, y = -1.25f;
-            const float corners[12] = {-h, y, -h, -h, y, h, h, y, h, h, y, -h};
-            std::memcpy(v, corners, sizeof corners);
-            auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(q, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), 1));
-            idx[0] = 0, idx[1] = 1, idx[2] = 2, idx[3] = 3;
-            rtcCommitGeometry(q);
-            rtcAttachGeometryByID(scene, q, 1);
-            rtcReleaseGeometry(q);
-        }
-        rtcCommitScene(scene);
-    }
+    RTCScene scene = sphere_scene(device(avx2), p.spheres, user, user_intersect, nullptr, -1.25f, p.floor ? p.quad_half : 0.0f);
     p.embree[key] = scene;
     return scene;
 }
 
-RTCIntersectContext coherent_context() {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    return ctx;
-}
+RTCIntersectContext coherent_context() { return intersect_context(RTC_INTERSECT_CONTEXT_FLAG_COHERENT); }
 
 // One pass of Embree over the whole ray set, working copies in place.
 void embree_pass8(RTCScene scene, AlignedVec<RTCRayHit8>& rh, const AlignedVec<std::array<int, 8>>& valid) {

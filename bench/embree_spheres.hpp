@@ -1,7 +1,8 @@
 // bench/embree_spheres.hpp — octray rays as Embree 3 rays (to_embree), and
 // spheres as Embree 3 user geometry, with octray's
 // stable quadratic (kernels/sphere.hpp): the callbacks bench_embree.cpp and
-// the scale benchmark (bench_scale.cpp) give Embree, closest hit and any hit.
+// the scale benchmark (bench_scale.cpp) and aobench (bench_aobench.cpp) give
+// Embree, closest hit and any hit.
 // Eight lanes with AVX2 + FMA when Embree hands the callback a packet of 8
 // (and this CPU runs AVX2), one lane at a time otherwise.
 //
@@ -191,6 +192,58 @@ inline void to_embree(const RayPacket8& r, std::size_t k, RTCRayHit8& e, std::ar
         one.hit.geomID = RTC_INVALID_GEOMETRY_ID, one.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         ones.push_back(one);
     }
+}
+
+inline RTCIntersectContext intersect_context(RTCIntersectContextFlags flags) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = flags;
+    return ctx;
+}
+
+// For bench_aobench.cpp: a scene of build quality HIGH with geometry 0 the spheres, as user
+// geometry (with whichever of the callbacks is given) or as Embree's native
+// RTC_GEOMETRY_TYPE_SPHERE_POINT, and, when `floor_half` > 0, geometry 1 a
+// square quad of that half side in the plane y = floor_y (Embree's native
+// quad). Committed; nullptr without a device.
+inline RTCScene sphere_scene(RTCDevice dev, UserSpheres& spheres, bool user, RTCIntersectFunctionN intersect,
+                             RTCOccludedFunctionN occluded, float floor_y, float floor_half) {
+    if (!dev) return nullptr;
+    RTCScene scene = rtcNewScene(dev);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    const unsigned n = unsigned(spheres.xyzr.size() / 4);
+    RTCGeometry g;
+    if (user) {
+        g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(g, n);
+        rtcSetGeometryUserData(g, &spheres);
+        rtcSetGeometryBoundsFunction(g, user_bounds, nullptr);
+        if (intersect) rtcSetGeometryIntersectFunction(g, intersect);
+        if (occluded) rtcSetGeometryOccludedFunction(g, occluded);
+    } else {
+        g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+        auto* v = static_cast<float*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), n));
+        std::memcpy(v, spheres.xyzr.data(), spheres.xyzr.size() * sizeof(float));
+    }
+    rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(scene, g, 0);
+    rtcReleaseGeometry(g);
+    if (floor_half > 0) {
+        RTCGeometry q = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_QUAD);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(q, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4));
+        const float h = floor_half, y = floor_y;
+        const float corners[12] = {-h, y, -h, -h, y, h, h, y, h, h, y, -h};
+        std::memcpy(v, corners, sizeof corners);
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(q, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), 1));
+        idx[0] = 0, idx[1] = 1, idx[2] = 2, idx[3] = 3;
+        rtcCommitGeometry(q);
+        rtcAttachGeometryByID(scene, q, 1);
+        rtcReleaseGeometry(q);
+    }
+    rtcCommitScene(scene);
+    return scene;
 }
 
 }  // namespace octray::bench

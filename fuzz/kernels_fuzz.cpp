@@ -15,14 +15,19 @@
 //              light (3), an attenuated point light (4), shadows (5), tone
 //              map (6-7: max_to_one, clamp_to_color, saturate, and saturate
 //              with an orthographic camera; else the camera is a pinhole)
-//   numbers    camera, background, gamma, clamp colour, two materials, the
-//              lights, each object (material: one byte, then its geometry);
+//   numbers    camera (its width and height one byte each: the size is
+//              1 + the low 6 bits; width bit 7 = ambient occlusion, with
+//              2^(height bits 6-7) samples), background, gamma, clamp
+//              colour, two materials, the lights, each object (material:
+//              one byte, then its geometry), then with occlusion its
+//              distance and min_amount;
 //              a number is a tag byte t then: t < 0x80: (t - 0x40) / 8 (no
 //              more bytes); t < 0xe0: 4 bytes, a float's bits; else 8 bytes,
 //              a double's bits
 //   the rest   up to 4 ray packets of 288 bytes: ox oy oz dx dy dz tmin tmax
 //              (8 floats each) and active (8 int32), little-endian; the
-//              packet's first 96 bytes also go to tonemap as raw radiance
+//              packet's first 96 bytes also go to tonemap as raw radiance,
+//              and the bits of ox are the lanes' pixel (the occlusion key)
 #include "kernel_checks.hpp"
 
 #include <octray/kernels.hpp>
@@ -76,7 +81,8 @@ Scene make_scene(Bytes& in) {
     c.type = (more & 0x80) != 0 && (more & 0x40) != 0 ? CameraType::orthographic : CameraType::pinhole;
     c.eye = in.vec3(), c.look_at = in.vec3(), c.up = in.vec3();
     c.fov_y = in.number(), c.height_world = in.number();
-    c.width = 1 + in.byte() % 64, c.height = 1 + in.byte() % 64;
+    const std::uint8_t width = in.byte(), height = in.byte();
+    c.width = 1 + width % 64, c.height = 1 + height % 64;
     s.background = in.vec3();
     s.render.tonemap = ToneMap(std::min(2, more >> 6));
     s.render.gamma = in.number();
@@ -122,6 +128,10 @@ Scene make_scene(Bytes& in) {
             const Vec3d corner = in.vec3(), a = in.vec3();
             return Shape{Rectangle{corner, a, in.vec3()}};
         });
+    if ((width & 0x80) != 0) {  // without an ambient light, validate() rejects it
+        const double distance = in.number();
+        s.ambient_occlusion = AmbientOcclusion{1 << (height >> 6), distance, in.number()};
+    }
     return s;
 }
 
@@ -152,6 +162,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (float* field : {r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, r.tmin, r.tmax})
             for (int i = 0; i < kPacketWidth; ++i) field[i] = in.raw<float>();
         for (int i = 0; i < kPacketWidth; ++i) r.active[i] = in.raw<std::int32_t>();
+        std::memcpy(r.pixel, r.ox, sizeof r.pixel);
         std::memcpy(colours[n].r, r.ox, sizeof r.ox);
         std::memcpy(colours[n].g, r.oy, sizeof r.oy);
         std::memcpy(colours[n].b, r.oz, sizeof r.oz);

@@ -36,12 +36,14 @@ def vec(*v):
 
 
 def scene(tonemap=0, ortho=False, spheres=1, boxes=1, triangles=1, plane=True, disk=True, rect=True,
-          ambient=True, directional=True, point=True, attenuated=True, shadows=True, extreme=False):
+          ambient=True, directional=True, point=True, attenuated=True, shadows=True, extreme=False,
+          occlusion=False):
     has = spheres | boxes << 2 | triangles << 4 | plane << 6 | disk << 7
     more = rect | ambient << 1 | directional << 2 | point << 3 | attenuated << 4 | shadows << 5
     more |= (3 if ortho else tonemap) << 6  # 3: orthographic camera, saturate tone map
     b = bytes([has, more])
-    b += vec(0, 2, 7.5) + vec(0, 0, 0) + vec(0, 1, 0) + num(45.0) + num(6.0) + bytes([40, 24])
+    b += vec(0, 2, 7.5) + vec(0, 0, 0) + vec(0, 1, 0) + num(45.0) + num(6.0)
+    b += bytes([40 | 0x80, 24 | 2 << 6]) if occlusion else bytes([40, 24])  # occlusion: 4 samples
     b += vec(0.125, 0.25, 0.375) + num(2.2 if tonemap == 0 else 1.0) + vec(1, 0, 0)
     b += num(0.25) + num(0.625) + vec(1, 0.5, 0.25)
     b += num(0.25) + num(0.625) + vec(0.25, 0.5, 1)
@@ -65,6 +67,8 @@ def scene(tonemap=0, ortho=False, spheres=1, boxes=1, triangles=1, plane=True, d
         b += bytes([0]) + vec(-2, 0.5, -1) + (vec(dbl(1e-300), 0, 1) if extreme else vec(0.25, 0.125, 1)) + num(0.75)
     if rect:
         b += bytes([1]) + vec(-1.5, -1, -2.5) + vec(3, 0, 0) + vec(0, 2.5, 0.25)
+    if occlusion:
+        b += num(6.0) + num(0.125)  # distance, min_amount
     return b
 
 
@@ -117,6 +121,9 @@ def main():
         "no_shadows_no_lights": scene(ambient=False, directional=False, point=False, attenuated=False, shadows=False),
         "no_objects": scene(spheres=0, boxes=0, triangles=0, plane=False, disk=False, rect=False),
         "extreme_values": scene(extreme=True),
+        "occlusion": scene(occlusion=True),
+        "occlusion_ambient_only": scene(directional=False, point=False, attenuated=False, shadows=False,
+                                        boxes=0, triangles=0, disk=False, rect=False, occlusion=True),
     }
     for name, head in seeds.items():
         data = head + camera_packet(rng) + garbage_packet() + inside_packet(rng)

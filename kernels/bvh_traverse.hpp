@@ -289,6 +289,11 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
         const std::int32_t ref = stack_ref[top];
         const Mask<T> on = group && active && pop_t() <= grow(tbest);
         if (!lane::any(on)) continue;
+        if (ref < 0) {  // a leaf: one call for all its lanes, however few (a single-ray walk would call it per lane)
+            leaf(bvh.leaves[std::size_t(~ref)], on);
+            if (!Closest && !lane::any(active)) return;
+            continue;
+        }
         if constexpr (kFloat && W > 1) {
             if (lane::count(on) <= single_lanes) {
                 const T t = pop_t();
@@ -300,11 +305,6 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
                 }
                 continue;
             }
-        }
-        if (ref < 0) {
-            leaf(bvh.leaves[std::size_t(~ref)], on);
-            if (!Closest && !lane::any(active)) return;
-            continue;
         }
         const Node8& node = bvh.nodes[std::size_t(ref)];
         const T limit = tbest;

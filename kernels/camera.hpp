@@ -36,6 +36,7 @@ inline void camera_lanes(const SceneData& s, int x0, int y, RayPacket8& rp, int 
     store(rp.tmin, lane, T(0));
     store(rp.tmax, lane, inf<T>());
     store_mask<T>(rp.active, lane, col < T(float(c.width)));
+    for (int i = 0; i < lane::width<T>; ++i) rp.pixel[lane + i] = y * c.width + x0 + lane + i;
 }
 
 template <class T, Precision P>

@@ -34,6 +34,10 @@ inline bvh::RayView<T> ray_view(const Ray<T, P>& r) {
     return bvh::make_ray_view(r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tmin);
 }
 
+// Any hit in a tree of at most this many primitives tests them all (the
+// builder's largest leaf, bvh::BuildOptions::max_leaf_size).
+inline constexpr std::size_t kAnyHitAll = 8;
+
 // Calls test(TypeTag<type>{}, k) for every primitive k (index within its
 // type) of every leaf some valid lane of r may reach before its `limit`:
 // `closest` walks nearest first and re-reads limit (the caller's best t) after
@@ -59,8 +63,19 @@ OCTRAY_HOT void for_each_candidate(const SceneData& s, const Ray<T, P>& r, const
                 for (int k = k0; k < k0 + n; ++k) test(tag, k);
             });
         };
-        if constexpr (Closest) bvh::traverse_closest(s.bvh, ray_view(r), active, limit, leaf);
-        else bvh::traverse_any(s.bvh, ray_view(r), active, limit, leaf);
+        if constexpr (Closest) {
+            bvh::traverse_closest(s.bvh, ray_view(r), active, limit, leaf);
+        } else if (s.bvh.primitive_count() <= kAnyHitAll) {
+            // Any hit among a leaf's worth of primitives (aobench's three
+            // spheres): every leaf, no walk. Testing them all costs about
+            // the root's node test, and needs no ray view (three divides).
+            for (const bvh::Leaf& l : s.bvh.leaves) {
+                leaf(l, active);
+                if (!lane::any(active)) return;
+            }
+        } else {
+            bvh::traverse_any(s.bvh, ray_view(r), active, limit, leaf);
+        }
     }
 }
 

@@ -8,6 +8,7 @@ Features features_of(const Scene& scene) {
     for (const Object& o : scene.objects) f.bits |= 1u << unsigned(primitive_type(o.shape));
     if (scene.mesh_triangle_count() > 0) f.bits |= kTriangle;  // mesh triangles are triangles
     if (scene.ambient) f.bits |= kAmbient;
+    if (scene.ambient && scene.ambient_occlusion) f.bits |= kOcclusion;
     for (const DirectionalLight& l : scene.directional_lights) {
         f.bits |= kDirectional;
         if (l.shadows) f.bits |= kShadows;
@@ -23,9 +24,10 @@ Features features_of(const Scene& scene) {
 
 std::string feature_string(unsigned bits) {
     // Bits 0-5 are the primitive types (scene.hpp names them), then the lights' features.
-    static constexpr const char* light_names[] = {"ambient", "directional", "point", "point_attenuated", "shadows"};
+    static constexpr const char* light_names[] = {"ambient", "directional", "point", "point_attenuated", "shadows",
+                                                  "occlusion"};
     std::string prims, lights;
-    for (unsigned i = 0; i < 11; ++i) {
+    for (unsigned i = 0; i < 12; ++i) {
         if ((bits & (1u << i)) == 0) continue;
         std::string& s = i < kPrimitiveTypeCount ? prims : lights;
         if (!s.empty()) s += '+';

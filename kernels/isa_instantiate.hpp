@@ -35,6 +35,9 @@ const ShadeFn* shade_variants(std::index_sequence<I...>) {
     return table;
 }
 
+// Spheres and planes: the primitive set of the occlusion variant and of occluded's own.
+inline constexpr unsigned kAnalytic = kSphere | kPlane;
+
 template <class T, Precision P, bool Specialize>
 Kernel make_kernel_at(Path path, const char* isa, unsigned primitive_bits, unsigned light_bits) {
     Kernel k;
@@ -50,6 +53,18 @@ Kernel make_kernel_at(Path path, const char* isa, unsigned primitive_bits, unsig
         k.shade = shade_variants<T, P>(std::make_index_sequence<kLightVariants>{})[li];
         k.primitive_bits = pi;
         k.light_bits = li << kLightShift;
+        // Spheres and planes alone (aobench's kind of scene): occluded walks
+        // those two types only, as the occlusion kernel's rays do.
+        if ((pi & ~kAnalytic) == 0) k.occluded = &occluded_packet<T, P, kAnalytic>;
+        if ((light_bits & kOcclusion) != 0) {
+            // Occlusion doubles no table: an ambient-only scene of spheres and
+            // planes (aobench; Suffern's occluder figures) has its own variant,
+            // whose sample rays walk those two types only; every other scene
+            // with occlusion runs the general shade.
+            const bool own = (light_bits & ~kAllPrimitives) == (kAmbient | kOcclusion) && (pi & ~kAnalytic) == 0;
+            k.shade = own ? &shade_packet<T, P, kAmbient | kOcclusion | kAnalytic> : &shade_packet<T, P, kAllFeatures>;
+            k.light_bits = own ? kAmbient | kOcclusion : kAllFeatures & ~kAllPrimitives;
+        }
     } else {
         (void)primitive_bits, (void)light_bits;
         k.intersect = &intersect_packet<T, P, kAllFeatures>;

@@ -12,6 +12,7 @@
 //   culling.hpp     the bounding-sphere trees' walk
 //   intersect.hpp   closest hit, normals, any hit (shadow rays)
 //   shade.hpp       Lambertian shading
+//   sampling.hpp, occlusion.hpp   ambient occlusion: the sample generator, the visible fraction
 //   tonemap.hpp     tone mapping and gamma
 //   camera.hpp      camera rays
 //
@@ -20,5 +21,6 @@
 
 #include "camera.hpp"
 #include "intersect.hpp"
+#include "occlusion.hpp"
 #include "shade.hpp"
 #include "tonemap.hpp"

@@ -266,6 +266,10 @@ PacketScene compile(const Scene& scene) {
         push3(s.ambient_r, s.ambient_g, s.ambient_b, amb);
         push3(s.diffuse_r, s.diffuse_g, s.diffuse_b, dif);
     }
+    if (scene.ambient && scene.ambient_occlusion) {
+        const AmbientOcclusion& ao = *scene.ambient_occlusion;
+        s.occlusion = {ao.samples, float(ao.distance), float(ao.min_amount)};
+    }
     if (scene.materials.empty()) {  // keep gathers in bounds for an object-free scene
         push3(s.ambient_r, s.ambient_g, s.ambient_b, Vec3d{});
         push3(s.diffuse_r, s.diffuse_g, s.diffuse_b, Vec3d{});

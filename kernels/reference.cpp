@@ -5,6 +5,8 @@
 // Every choice here is the simplest correct one; speed is not a goal.
 #include <octray/reference.hpp>
 
+#include "sampling.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -327,13 +329,13 @@ bool shadowed(const Scene& scene, const Hit& hit, const PointLight& light) {
 // Matte::shade, seed eq. 7 (ambient) + eq. 8 (sum over lights with n.l > 0);
 // point lights per eq. 6, with 1/r^2 only under inverse_square. A light with
 // shadows on is skipped when a shadow ray from p meets any object before it.
-Vec3d shade(const Scene& scene, const Ray& /*ray*/, const Hit& hit) {
+Vec3d shade(const Scene& scene, const Ray& /*ray*/, const Hit& hit, std::uint32_t pixel) {
     if (hit.object < 0) return scene.background;
     const Material& m = scene.materials.at(std::size_t(primitive_material(scene, hit.object)));
     const Vec3d& p = hit.point;
     const Vec3d& n = hit.normal;
 
-    Vec3d L = ambient_term(scene, m);
+    Vec3d L = ambient_term(scene, m) * occlusion_factor(scene, hit, pixel);
     for (const DirectionalLight& light : scene.directional_lights) {
         const double n_dot_l = dot(n, unit_direction(light.direction));  // scene.hpp: any length, used as unit
         if (!(n_dot_l > 0.0) || shadowed(scene, hit, light)) continue;
@@ -349,6 +351,30 @@ Vec3d shade(const Scene& scene, const Ray& /*ray*/, const Hit& hit) {
         L += lambert(m, light.color, light.ls * falloff, n_dot_l);
     }
     return L;
+}
+
+// Ambient occlusion. The frame about n: Duff et al., "Building an orthonormal
+// basis, revisited" (JCGT 2017), n.z = -0 taken as + (kernels/occlusion.hpp).
+Vec3d occlusion_direction(const Vec3d& n, std::uint32_t pixel, int k) {
+    double u1, u2;
+    sampling::occlusion_uniforms(pixel, std::uint32_t(k), u1, u2);
+    const double sign = n.z >= 0 ? 1.0 : -1.0;
+    const double a = -1.0 / (sign + n.z), b = n.x * n.y * a;
+    const Vec3d b1{1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x}, b2{b, sign + n.y * n.y * a, -n.y};
+    const double r = std::sqrt(u1), phi = 2.0 * kPi * u2;
+    return b1 * (r * std::cos(phi)) + b2 * (r * std::sin(phi)) + n * std::sqrt(1.0 - u1);
+}
+
+Ray occlusion_ray(const Hit& hit, std::uint32_t pixel, int k) {
+    return {shadow_origin(hit), occlusion_direction(hit.normal, pixel, k)};  // from where shadow rays leave
+}
+
+double occlusion_factor(const Scene& scene, const Hit& hit, std::uint32_t pixel) {
+    if (!scene.ambient || !scene.ambient_occlusion || hit.object < 0) return 1.0;
+    const AmbientOcclusion& ao = *scene.ambient_occlusion;
+    int visible = 0;
+    for (int k = 0; k < ao.samples; ++k) visible += !occluded(scene, occlusion_ray(hit, pixel, k), ao.distance);
+    return std::max(ao.min_amount, double(visible) / double(ao.samples));
 }
 
 // Tone mapping per DESIGN.md, then gamma. Non-finite radiance still lands in
@@ -396,7 +422,7 @@ Image<double> render(const Scene& scene) {
     for (int j = 0; j < img.height; ++j)
         for (int i = 0; i < img.width; ++i) {
             const Ray ray = camera_ray(scene.camera, i, j);
-            const Vec3d L = shade(scene, ray, trace(scene, ray));
+            const Vec3d L = shade(scene, ray, trace(scene, ray), std::uint32_t(j) * std::uint32_t(img.width) + std::uint32_t(i));
             double* px = img.pixel(i, j);
             px[0] = L.x; px[1] = L.y; px[2] = L.z;
         }

@@ -41,6 +41,12 @@ struct TriangleArrays {
 struct DirectionalArrays { Floats lx, ly, lz, r, g, b, shadows; };
 struct PointArrays { Floats px, py, pz, r, g, b, shadows; };
 
+// Ambient occlusion's parameters (AmbientOcclusion); samples 0: none.
+struct OcclusionData {
+    int samples = 0;
+    float distance = 0, min_amount = 0;
+};
+
 struct PacketCamera {
     bool orthographic = false;
     float eye[3]{}, u[3]{}, v[3]{}, w[3]{};
@@ -70,6 +76,8 @@ struct SceneData {
     DirectionalArrays directional;
     PointArrays point;             // attenuation none
     PointArrays point_attenuated;  // attenuation inverse_square
+
+    OcclusionData occlusion;
 
     // Per material, premultiplied: ka*cd ⋆ ls*cl (seed eq. 7) and kd*cd/pi (eq. 8).
     Floats ambient_r, ambient_g, ambient_b, diffuse_r, diffuse_g, diffuse_b;

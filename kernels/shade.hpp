@@ -83,6 +83,11 @@ inline void accumulate(Vec3<T>& e, const Mask<T>& lit, const T& weight, const Ve
          lane::max(lane::fma(radiance.z, w, e.z), e.z)};
 }
 
+// Ambient occlusion's factor on the ambient term, per lane (occlusion.hpp).
+template <class T, Precision P, unsigned F>
+T occlusion_factor(const SceneData& s, const RayPacket8& rp, int lane, const Mask<T>& hit, const Vec3<T>& p,
+                   const Vec3<T>& n, const T& reach);
+
 template <class T, Precision P, unsigned F>
 inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out, int lane) {
     const Mask<T> hit = load_mask<T>(hp.hit, lane) && load_mask<T>(rp.active, lane);
@@ -95,8 +100,8 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     const T m = lane::keep(hit, load_index<T>(hp.material, lane));
     // |t|: with tmin < 0 a hit may lie behind the origin (t < 0).
     [[maybe_unused]] T reach = lane::abs(t) * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
-    // Point lights and shadow rays use p: a small sphere's from its frame.
-    if constexpr ((F & kSphere) != 0 && (F & (kPoint | kPointAttenuated | kShadows)) != 0) {
+    // Point lights, shadow rays and occlusion rays use p: a small sphere's from its frame.
+    if constexpr ((F & kSphere) != 0 && (F & (kPoint | kPointAttenuated | kShadows | kOcclusion)) != 0) {
         if (lane::any(hit))
             reach = lane::keep(
                 lane::not_(sphere_surface_point(s, load_index<T>(hp.primitive, lane), hit, o, d, t, reach, n, p)), reach);
@@ -160,7 +165,13 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     // kd cd = 0 times an overflowed E = +inf is NaN; the radiance is 0 there
     // (max(x, 0) flushes NaN to 0; every other x is >= 0 and passes).
     c = {lane::max(c.x, T(0)), lane::max(c.y, T(0)), lane::max(c.z, T(0))};
-    if constexpr ((F & kAmbient) != 0) c += material(s.ambient_r, s.ambient_g, s.ambient_b);
+    if constexpr ((F & kAmbient) != 0) {
+        Vec3<T> ambient = material(s.ambient_r, s.ambient_g, s.ambient_b);
+        // The general kernel (F = kAllFeatures) runs a scene without occlusion too: samples 0, no factor.
+        if constexpr ((F & kOcclusion) != 0)
+            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F>(s, rp, lane, hit, p, n, reach);
+        c += ambient;
+    }
     store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));
     store(out.g, lane, lane::select(hit, c.y, T(s.background[1])));
     store(out.b, lane, lane::select(hit, c.z, T(s.background[2])));

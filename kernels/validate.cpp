@@ -149,6 +149,16 @@ void shape(const std::string& p, const Shape& shape) {
         shape);
 }
 
+void occlusion(const std::string& path, const AmbientOcclusion& o, bool ambient) {
+    if (!ambient) fail(path, "needs an ambient light (Scene::ambient) to occlude");
+    if (o.samples < 1 || o.samples > AmbientOcclusion::kMaxSamples)
+        fail(path + ".samples", "must be in [1, " + std::to_string(AmbientOcclusion::kMaxSamples) + "], got " +
+                                    std::to_string(o.samples));
+    positive(path + ".distance", o.distance);
+    non_negative(path + ".min_amount", o.min_amount);
+    if (o.min_amount > 1) fail(path + ".min_amount", "must be in [0, 1], got " + format_number(o.min_amount));
+}
+
 }  // namespace
 
 InvalidScene::InvalidScene(const std::string& path, const std::string& problem)
@@ -194,6 +204,7 @@ void validate(const Scene& scene) {
     camera(scene.camera);
     colour("background", scene.background);
     if (scene.ambient) colour("ambient.color", scene.ambient->color), non_negative("ambient.ls", scene.ambient->ls);
+    if (scene.ambient_occlusion) occlusion("ambient_occlusion", *scene.ambient_occlusion, scene.ambient.has_value());
     for (std::size_t i = 0; i < scene.directional_lights.size(); ++i) {
         const std::string p = "directional_lights[" + std::to_string(i) + "]";
         const DirectionalLight& l = scene.directional_lights[i];

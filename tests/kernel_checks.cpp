@@ -240,6 +240,7 @@ void GarbageRays::fill(RayPacket8& rays) {
         rays.tmin[i] = bits() % 4 == 0 ? float(uniform(0, 2)) : 0.0f;
         rays.tmax[i] = bits() % 4 == 0 ? float(uniform(0, 20)) : std::numeric_limits<float>::infinity();
         rays.active[i] = 1;
+        rays.pixel[i] = std::int32_t(bits());  // any value keys occlusion samples
         // Then garbage: a whole lane of random bits, or some fields replaced.
         const std::uint32_t kind = bits() % 16;
         if (kind == 0) {

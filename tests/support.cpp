@@ -82,6 +82,7 @@ Scene scene_with_features(unsigned bits, std::mt19937& rng) {
     if (bits & kTriangle) add(Triangle{{0.5, -1, 1.5}, {2, -1, 2}, {1.2, 0.5, 1.8}});
     const bool shadows = (bits & kShadows) != 0;
     if (bits & kAmbient) s.ambient = AmbientLight{{1, 1, 1}, 0.4};
+    if (bits & kOcclusion) s.ambient_occlusion = AmbientOcclusion{4, 1e30, 0.1};
     if (bits & kDirectional) s.directional_lights.push_back({{0.4, 0.8, 0.45}, {1, 0.9, 0.8}, 1.5, shadows});
     if (bits & kPoint) s.point_lights.push_back({{-3, 4, 3}, {1, 1, 1}, 1.2, Attenuation::none, shadows});
     if (bits & kPointAttenuated) s.point_lights.push_back({{2, 3, 3}, {1, 0.8, 0.6}, 25, Attenuation::inverse_square, shadows});

@@ -495,7 +495,12 @@ TEST_CASE("end to end: every scene renders within each mode's stated bound on ev
     REQUIRE(!files.empty());
     for (const std::string& file : files) {
         CAPTURE(file);
-        const Scene scene = load_scene(file);
+        Scene scene = load_scene(file);
+        // Ambient occlusion counts rays that hit or miss: no error bound
+        // carries over to it, and the faster modes lift and aim the sample
+        // rays differently. It is checked in exact precision only (verify's
+        // grazing ranges: test_render, test_occlusion); here, without it.
+        scene.ambient_occlusion.reset();
         const PacketScene packet = compile(scene);
         const ReferenceTrace traced = trace_reference(scene);
         const ReferenceRender ref = render_reference(scene, traced);

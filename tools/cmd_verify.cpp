@@ -40,6 +40,9 @@ int run_verify(const VerifyArgs& args) {
         if (a.shadow_edges)
             std::printf("        %llu lanes on shadow boundaries, left out of the error columns\n",
                         (unsigned long long)a.shadow_edges);
+        if (a.occlusion_grazing)
+            std::printf("        %llu lanes whose occlusion samples graze an occluder: compared at their own count\n",
+                        (unsigned long long)a.occlusion_grazing);
         if (a.nonfinite) std::printf("        %llu non-finite radiance values\n", (unsigned long long)a.nonfinite);
     }
     std::printf("packet renders on %d thread%s\n", threads, threads == 1 ? "" : "s");

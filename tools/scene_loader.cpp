@@ -57,14 +57,17 @@ std::string describe(const Json& v) {
 }
 
 // Where the Scene's lights and materials stand in the file. validate() names
-// Scene paths; two of them differ from the file's: the file's one `lights`
-// array is split into directional_lights and point_lights, and materials are
-// an object keyed by name, not an array.
+// Scene paths; some differ from the file's: the file's one `lights` array is
+// split into directional_lights and point_lights, materials are an object
+// keyed by name, not an array, and ambient.occlusion is Scene::ambient_occlusion.
 struct SourceMap {
     std::vector<std::size_t> directional, point;  // the `lights` index of each Scene light
     std::vector<std::size_t> mesh;                // the `objects` index of each Scene mesh
 
     std::string json_path(const std::string& scene_path, const Scene& scene) const {
+        static const std::string occlusion = "ambient_occlusion";  // the file's ambient.occlusion
+        if (scene_path.compare(0, occlusion.size(), occlusion) == 0)
+            return "ambient.occlusion" + scene_path.substr(occlusion.size());
         const auto open = scene_path.find('['), close = scene_path.find(']');
         if (open == std::string::npos || close == std::string::npos || close < open) return scene_path;
         const std::string head = scene_path.substr(0, open), rest = scene_path.substr(close + 1);
@@ -205,11 +208,21 @@ public:
 
     AmbientLight ambient(const Json& j, const std::string& path) const {
         expect_object(j, path);
-        reject_unknown(j, path, "ambient", {"color", "ls"});
+        reject_unknown(j, path, "ambient", {"color", "ls", "occlusion"});
         AmbientLight a;
         if (auto* c = optional(j, "color")) a.color = vec3(*c, member(path, "color"));
         if (auto* ls = optional(j, "ls")) a.ls = number(*ls, member(path, "ls"));
         return a;
+    }
+
+    AmbientOcclusion occlusion(const Json& j, const std::string& path) const {
+        expect_object(j, path);
+        reject_unknown(j, path, "occlusion", {"samples", "distance", "min_amount"});
+        AmbientOcclusion o;
+        if (auto* v = optional(j, "samples")) o.samples = integer(*v, member(path, "samples"));
+        if (auto* v = optional(j, "distance")) o.distance = number(*v, member(path, "distance"));
+        if (auto* v = optional(j, "min_amount")) o.min_amount = number(*v, member(path, "min_amount"));
+        return o;
     }
 
     void lights(const Json& j, const std::string& path, Scene& scene, SourceMap& source) const {
@@ -409,7 +422,10 @@ public:
         SourceMap source;
         s.camera = camera(required(root, "", "camera", "a scene"), "camera");
         if (auto* v = optional(root, "background")) s.background = vec3(*v, "background");
-        if (auto* v = optional(root, "ambient")) s.ambient = ambient(*v, "ambient");
+        if (auto* v = optional(root, "ambient")) {
+            s.ambient = ambient(*v, "ambient");
+            if (auto* o = optional(*v, "occlusion")) s.ambient_occlusion = occlusion(*o, "ambient.occlusion");
+        }
         if (auto* v = optional(root, "lights")) lights(*v, "lights", s, source);
         s.materials = materials(required(root, "", "materials", "a scene"), "materials");
         s.objects = objects(required(root, "", "objects", "a scene"), "objects", s.materials, s.meshes, source);

@@ -83,12 +83,18 @@ ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& trace
     r.scale = Image<double>(c.width, c.height);
     r.primitive.assign(std::size_t(c.width) * std::size_t(c.height), -1);
     r.shadowed.assign(r.primitive.size(), 0);
+    r.ambient_occlusion = scene.ambient ? scene.ambient_occlusion : std::nullopt;
+    if (r.ambient_occlusion) r.occlusion.assign(r.primitive.size(), OcclusionRange{});
+    // Rows are independent (each pixel writes its own entries): a scene with
+    // ambient occlusion traces N samples, each five times more (occlusion_range).
+#pragma omp parallel for schedule(dynamic, 4)
     for (int j = 0; j < c.height; ++j) {
         for (int i = 0; i < c.width; ++i) {
             const std::size_t k = std::size_t(j) * std::size_t(c.width) + std::size_t(i);
             const reference::Ray& ray = traced.rays[k];
             const reference::Hit& hit = traced.hits[k];
-            const Vec3d l = reference::shade(scene, ray, hit);
+            const Vec3d l = reference::shade(scene, ray, hit, std::uint32_t(k));
+            if (r.ambient_occlusion && hit.object >= 0) r.occlusion[k] = occlusion_range(scene, hit, std::uint32_t(k));
             const Vec3d s = hit.object >= 0 ? full_light_scale(scene, hit) : scene.background;
             double* px = r.radiance.pixel(i, j);
             double* sx = r.scale.pixel(i, j);
@@ -160,6 +166,11 @@ Agreement compare(const ReferenceRender& ref, const Image<float>& radiance, cons
             }
             ++a.compared;
             const double* r = ref.radiance.pixel(i, j);
+            double at_count[3];
+            const std::size_t px = std::size_t(j) * std::size_t(w) + std::size_t(i);
+            if (!ref.occlusion.empty() && id(i, j) >= 0 &&
+                occlusion_count(ref, px, radiance.pixel(i, j), at_count) != ref.occlusion[px].blocked)
+                ++a.occlusion_grazing, r = at_count;
             const double* s = ref.scale.pixel(i, j);
             const float* p = radiance.pixel(i, j);
             for (int k = 0; k < 3; ++k) {

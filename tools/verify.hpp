@@ -6,10 +6,19 @@
 #include <octray/scene.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace octray {
+
+// Ambient occlusion at a pixel (verify_occlusion.cpp): the reference's count
+// of blocked samples, and the counts a packet path may get instead where
+// samples graze an occluder; the ambient term at visible fraction 1.
+struct OcclusionRange {
+    int blocked = 0, low = 0, high = 0;
+    Vec3d ambient;
+};
 
 // Reference image and per-pixel data the comparisons need, computed once.
 struct ReferenceRender {
@@ -19,6 +28,9 @@ struct ReferenceRender {
     // Per pixel, bit j set when shadow-casting light j (directional lights, then
     // point lights; the first 64) is blocked at the pixel's hit point.
     std::vector<std::uint64_t> shadowed;
+    // Scenes with ambient occlusion: its settings and, per pixel hit, the range of counts.
+    std::optional<AmbientOcclusion> ambient_occlusion;
+    std::vector<OcclusionRange> occlusion;
 };
 // The reference's camera ray and nearest hit of every pixel, row-major: the
 // one full trace a render, an error bound (errtime.hpp) and a test share.
@@ -29,6 +41,10 @@ struct ReferenceTrace {
 ReferenceTrace trace_reference(const Scene& scene);
 ReferenceRender render_reference(const Scene& scene);
 ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& traced);
+OcclusionRange occlusion_range(const Scene& scene, const reference::Hit& hit, std::uint32_t pixel);
+// The count in the pixel's range whose radiance (the reference's, at that
+// count, into at_count) is nearest `radiance`; the reference's own on a tie.
+int occlusion_count(const ReferenceRender& ref, std::size_t pixel, const float* radiance, double at_count[3]);
 
 // A packet-path render with per-pixel primitive ids.
 struct PacketRender {
@@ -67,6 +83,11 @@ struct Agreement {
     // counted and left out of the error columns.
     std::uint64_t shadow_edges = 0;
     std::uint64_t nonfinite = 0;         // NaN/inf radiance where the reference is finite
+    // Lanes whose count of blocked occlusion samples differs from the
+    // reference's by samples that graze an occluder (occlusion_range): like
+    // silhouettes, counted; their error is measured against the reference
+    // radiance at their own count.
+    std::uint64_t occlusion_grazing = 0;
 
     bool within(const Tolerance& tol) const;
 };

@@ -20,9 +20,10 @@ enum FeatureBit : unsigned {
     kPoint = 1u << 8,             // point lights without attenuation
     kPointAttenuated = 1u << 9,   // point lights with inverse-square attenuation
     kShadows = 1u << 10,          // at least one light casts shadows
+    kOcclusion = 1u << 11,        // the ambient light has occlusion (needs kAmbient)
 };
 inline constexpr unsigned kAllPrimitives = kSphere | kPlane | kDisk | kRectangle | kBox | kTriangle;
-inline constexpr unsigned kAllFeatures = (1u << 11) - 1;
+inline constexpr unsigned kAllFeatures = (1u << 12) - 1;
 
 struct Features {
     unsigned bits = 0;

@@ -10,6 +10,7 @@
 #include <octray/image.hpp>
 #include <octray/scene.hpp>
 
+#include <cstdint>
 #include <optional>
 
 namespace octray::reference {
@@ -62,7 +63,18 @@ struct Hit {
 Hit trace(const Scene& scene, const Ray& ray, double tmin = 0.0, double tmax = 1e300);
 
 // HDR radiance of a hit (seed eq. 7-8), or the background on a miss.
-Vec3d shade(const Scene& scene, const Ray& ray, const Hit& hit);
+// `pixel` (row-major, j * width + i) keys the ambient-occlusion samples; it is
+// read only when the scene's ambient light has occlusion.
+Vec3d shade(const Scene& scene, const Ray& ray, const Hit& hit, std::uint32_t pixel = 0);
+
+// Ambient occlusion (DESIGN.md): sample k of `pixel` at a hit, the
+// cosine-weighted direction about the hit's normal from the uniforms of
+// kernels/sampling.hpp (Malley's method, polar; the frame of Duff et al. 2017),
+// from just off the surface as shadow rays leave it. Its interval is (0, distance).
+Vec3d occlusion_direction(const Vec3d& normal, std::uint32_t pixel, int k);
+Ray occlusion_ray(const Hit& hit, std::uint32_t pixel, int k);
+// max(min_amount, the fraction of the samples nothing blocks); 1 without occlusion.
+double occlusion_factor(const Scene& scene, const Hit& hit, std::uint32_t pixel);
 
 // shade()'s parts, for tools and tests that weigh or check its terms; each is
 // defined once here and shade() uses them.

@@ -51,7 +51,18 @@ struct Material {
     Vec3d cd{1, 1, 1}; // diffuse colour, components >= 0
 };
 
-// Ambient light, seed eq. 1: incident radiance ls * color everywhere.
+// Ambient occlusion (DESIGN.md; Suffern ch. 17): the ambient term times
+// max(min_amount, the fraction of `samples` cosine-weighted rays over the
+// hemisphere about the facing normal that nothing blocks before `distance`).
+struct AmbientOcclusion {
+    static constexpr int kMaxSamples = 65536;
+    int samples = 16;         // in [1, kMaxSamples]
+    double distance = 1e30;   // > 0
+    double min_amount = 0;    // in [0, 1]
+};
+
+// Ambient light, seed eq. 1: incident radiance ls * color everywhere
+// (times the visible fraction, with Scene::ambient_occlusion).
 struct AmbientLight {
     Vec3d color{1, 1, 1};
     double ls = 1.0;
@@ -135,6 +146,8 @@ struct Scene {
     Camera camera;
     Vec3d background{0, 0, 0};
     std::optional<AmbientLight> ambient;  // absent: no ambient light
+    // The JSON's ambient.occlusion; needs `ambient`. Absent: the seed's constant ambient light.
+    std::optional<AmbientOcclusion> ambient_occlusion;
     std::vector<DirectionalLight> directional_lights;
     std::vector<PointLight> point_lights;
     std::vector<Material> materials;
