@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <type_traits>
 
 namespace octray {
@@ -194,7 +195,12 @@ void mesh(const std::string& p, const Mesh& m, const Scene& scene) {
 
 Vec3d unit_direction(const Vec3d& v) {
     // m = 2^e * [1, 2): scaling by 2^-e is exact and brings the largest component to [1, 2).
-    const int e = std::ilogb(std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}));
+    const double m = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+    if (!(m > 0) || !std::isfinite(m)) {  // zero, infinite or NaN: ilogb has no usable exponent
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        return {nan, nan, nan};
+    }
+    const int e = std::ilogb(m);
     const Vec3d s{std::scalbn(v.x, -e), std::scalbn(v.y, -e), std::scalbn(v.z, -e)};
     const double len = std::sqrt(dot(s, s));
     return {s.x / len, s.y / len, s.z / len};
