@@ -10,6 +10,8 @@
 
 #include "ray.hpp"
 
+#include <limits>
+
 namespace octray::kernels::OCTRAY_ISA {
 
 // ---- primitive tests ---------------------------------------------------------
@@ -200,7 +202,13 @@ inline Vec3<T> sphere_offset(const Ray<T, P>& r, const Vec3<T>& o, const Vec3<T>
         const T b2_a = bf * bf * r.inv_dd;
         h2 = lane::select(cancels && b2_a + lane::abs(c2) < T(0.5f) * s2, b2_a - c2, h2);
     }
-    const T h_t = lane::sqrt(lane::max(h2, T(0)) * r.inv_dd);  // h / |d|: from the foot to p, in units of t
+    const T h2_pos = lane::max(h2, T(0));
+    T h_t = lane::sqrt(h2_pos * r.inv_dd);  // h / |d|: from the foot to p, in units of t
+    // A direction near the shortest load_ray accepts (d.d down to 2^-126) can
+    // take h^2/(d.d) past the float range though h/|d| fits (a t near 2^65):
+    // those lanes take the two roots apart.
+    const Mask<T> overflow = h_t == T(std::numeric_limits<float>::infinity());
+    if (lane::any(overflow)) h_t = lane::select(overflow, lane::sqrt(h2_pos) * lane::sqrt(r.inv_dd), h_t);
     const T along = lane::select(near, T(0) - h_t, h_t);
     return {lane::fma(r.d.x, along, q.x), lane::fma(r.d.y, along, q.y), lane::fma(r.d.z, along, q.z)};
 }

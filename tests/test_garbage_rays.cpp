@@ -220,3 +220,31 @@ TEST_CASE("tone map with a gamma near 0 (found by fuzz/kernels_fuzz.cpp)") {
         }
     }
 }
+
+TEST_CASE("sphere normal for the shortest directions load_ray accepts (found by fuzz/kernels_fuzz.cpp)") {
+    // d = (0, 2^-63, 0): d.d = 2^-126, and h^2 / (d.d) for a sphere of radius 5
+    // overflowed float, so the normal came out (NaN, inf, NaN) at t ~ 2^65.
+    Scene s;
+    s.materials = {{"m", 0.25, 0.65, {1, 1, 1}}};
+    s.objects = {{Sphere{{0.75, 1.5, -3}, 5}, 0}};
+    const PacketScene ps = compile(s);
+    const SceneFacts facts = scene_facts(s);
+    RayPacket8 rays{};
+    const float scales[kPacketWidth] = {0x1p-63f, 0x1p-62f, 0x1p-40f, 0x1p-20f, 1, 0x1p20f, 0x1p40f, 0x1p62f};
+    for (int i = 0; i < kPacketWidth; ++i)
+        rays.ox[i] = 0x1p-149f, rays.dy[i] = scales[i], rays.tmax[i] = INFINITY, rays.active[i] = -1;
+    for (const Kernel& k : every_kernel()) {
+        CAPTURE(k.name());
+        HitPacket8 hits;
+        CHECK(k.intersect(ps, rays, hits) == 0);
+        CHECK(check_intersect(facts, rays, hits, 0, k.precision) == "");
+        // The same line at every scale: the same point, so the same normal.
+        for (int i = 0; i < kPacketWidth; ++i) {
+            CAPTURE(i);
+            REQUIRE(hits.primitive[i] == 0);
+            CHECK(hits.nx[i] == doctest::Approx(hits.nx[4]).epsilon(1e-5));
+            CHECK(hits.ny[i] == doctest::Approx(hits.ny[4]).epsilon(1e-5));
+            CHECK(hits.nz[i] == doctest::Approx(hits.nz[4]).epsilon(1e-5));
+        }
+    }
+}
