@@ -178,6 +178,7 @@ int main(int argc, char** argv) {
     if (const char* v = std::getenv("OCTRAY_SCALE_LEAF")) o.max_leaf_size = std::atoi(v);
     if (const char* v = std::getenv("OCTRAY_SCALE_ICOST")) o.intersection_cost = float(std::atof(v));
     if (const char* v = std::getenv("OCTRAY_SCALE_TCOST")) o.traversal_cost = float(std::atof(v));
+    if (const char* v = std::getenv("OCTRAY_SCALE_BLOCK")) o.leaf_block = std::atoi(v);
     benchmark::AddCustomContext("bvh_options", "leaf " + std::to_string(o.max_leaf_size) + ", intersection cost " +
                                                    std::to_string(o.intersection_cost) + ", traversal cost " +
                                                    std::to_string(o.traversal_cost));

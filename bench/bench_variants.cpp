@@ -140,8 +140,7 @@ int intersect_triangles(const PacketScene& scene, const RayPacket8& rp, HitPacke
     Closest<T> best{r.tmax, T(-1)};
     for_each_candidate<true, kTriangle>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = intersect_triangle(r, triangle_vertex<T>(a, a.i0, k), triangle_vertex<T>(a, a.i1, k),
-                                       triangle_vertex<T>(a, a.i2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, best.t);
+        const T t = test_triangle(a, k, r, hit, best.t);
         best.take(hit, t, k);
     });
     const Lookup<T> at = hit_lookup(best);

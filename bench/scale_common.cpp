@@ -282,8 +282,8 @@ std::size_t octray_bytes(const PacketScene& scene) {
     const auto& s = d.spheres;
     for (const Floats* f : {&s.cx, &s.cy, &s.cz, &s.inv_radius, &s.radius}) b += held(*f);
     const auto& t = d.triangles;
-    for (const Floats* f : {&t.vx, &t.vy, &t.vz, &t.nx, &t.ny, &t.nz}) b += held(*f);
-    b += held(t.i0) + held(t.i1) + held(t.i2);
+    for (const Floats* f : {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz})
+        b += held(*f);
     for (const Floats* f : {&d.object_of, &d.mesh_of, &d.compiled_of, &d.material_of}) b += held(*f);
     return b;
 }

@@ -162,6 +162,11 @@ struct BuildOptions {
     // node is 8 child slab tests standing for ~3 binary levels.
     float traversal_cost = 2.0f;
     float intersection_cost = 1.0f;
+    // Primitives one leaf test takes at once (a single ray against a leaf's
+    // run, side by side in the lanes): a leaf costs intersection_cost per
+    // block of this many, and the primitives below a split count as packed
+    // in blocks too, so the SAH fills leaves up to the block.
+    int leaf_block = 8;
     // OpenMP threads for the build; 0: OpenMP's default. The tree is the
     // same whatever the count.
     int threads = 0;

@@ -27,6 +27,7 @@
 #include "bvh.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <cstring>
 #include <memory>
@@ -177,6 +178,7 @@ struct Context {
     int bins;
     int max_leaf;
     float traversal_cost, intersection_cost;
+    int leaf_block;
 };
 
 // Bins refs[begin, end) and sweeps the SAH cost of each bin boundary on each
@@ -313,9 +315,11 @@ void build_node(const Context& ctx, std::uint32_t node, std::uint32_t begin, std
         const float split_cost = small ? sweep.cost : split.cost;
         const float area = bounds.box.area();
         const bool leaf_ok = n <= std::uint32_t(ctx.max_leaf);
-        // SAH, scaled by the node's area: leaf n Ci A vs split Ct A + Ci (sum A_side n_side).
-        if (n == 1 || (leaf_ok && !(ctx.intersection_cost * float(n) * area >
-                                    ctx.traversal_cost * area + ctx.intersection_cost * split_cost))) {
+        // SAH, scaled by the node's area, in leaf blocks of b: leaf ceil(n / b) Ci A
+        // vs split Ct A + Ci (sum A_side n_side) / b.
+        const float block = float(ctx.leaf_block);
+        const float leaf_cost = ctx.intersection_cost * std::ceil(float(n) / block) * area;
+        if (n == 1 || (leaf_ok && !(leaf_cost > ctx.traversal_cost * area + ctx.intersection_cost * split_cost / block))) {
             bn.first = begin;
             bn.count = n;
             return;
@@ -460,6 +464,7 @@ Bvh8 build_bvh8(const BuildInput& in, const BuildOptions& opt) {
               opt.intersection_cost < kInf,
           "costs must be finite, intersection_cost > 0");
     check(opt.threads >= 0, "threads must be >= 0");
+    check(opt.leaf_block >= 1 && opt.leaf_block <= 255, "leaf_block must be 1..255");
     if (n > kMaxPrimitives) throw std::length_error("build_bvh8: more than 2^30 primitives");
     std::vector<std::uint32_t> per_kind(std::size_t(in.kind_count), 0);
     for (std::uint8_t k : in.kind) check(k < in.kind_count, "a kind is >= kind_count");
@@ -485,8 +490,9 @@ Bvh8 build_bvh8(const BuildInput& in, const BuildOptions& opt) {
     std::unique_ptr<Ref[]> refs(new Ref[n]), scratch(new Ref[n]);
     std::unique_ptr<BNode[]> bnodes(new BNode[2 * n - 1]);
     std::atomic<std::uint32_t> next{1};
-    const Context ctx{refs.get(), scratch.get(), bnodes.get(), &next, opt.bins, opt.max_leaf_size, opt.traversal_cost,
-                      opt.intersection_cost};
+    const Context ctx{refs.get(),        scratch.get(),         bnodes.get(),         &next,
+                      opt.bins,          opt.max_leaf_size,     opt.traversal_cost,   opt.intersection_cost,
+                      opt.leaf_block};
     Bounds root;
     const Box* boxes = in.boxes.data();
 #ifdef _OPENMP
@@ -529,7 +535,8 @@ double sah_cost(const Bvh8& bvh, const BuildOptions& opt) {
             const double a = node.bounds(j).area() / root_area;
             const std::int32_t c = node.child[j];
             cost += c >= 0 ? opt.traversal_cost * a
-                           : opt.intersection_cost * a * bvh.leaves[std::size_t(~c)].size();
+                           : opt.intersection_cost * a *
+                                 std::ceil(double(bvh.leaves[std::size_t(~c)].size()) / opt.leaf_block);
         }
     }
     return cost;

@@ -29,17 +29,22 @@
 // whenever one of those boxes is.
 //
 //   one lane of float: a single ray; each node's 8 children in one 8-float
-//     batch (two 4-float ones without AVX), children sorted by entry t.
-//   a packet: each child is tested against every lane (the child's bounds
-//     broadcast), its per-lane entry t kept on the stack; children are
-//     visited in the order of their nearest lane's entry t. A subtree that
-//     at most WalkOptions::single_ray_lanes lanes reach is walked lane by
-//     lane as single rays (fewer node tests where a packet diverges), and
-//     the lanes of each direction octant walk as a packet of their own; both
-//     for float lanes only (double lanes always walk as one packet: f64 is a
-//     checking mode, its node tests stay in double).
-//     The thresholds and orders were chosen by bench/bench_bvh.cpp
-//     (docs/performance.md has the measurements).
+//     batch (two 4-float ones without AVX), the nearest entered child next.
+//   a packet of float lanes in one direction octant: its hull (walk_hull)
+//     tests each node's 8 children once for all lanes; a leaf's own lanes
+//     are then found exactly.
+//   any other packet: each child is tested against every lane (the child's
+//     bounds broadcast), its per-lane entry t kept on the stack; children
+//     are visited in the order of their nearest lane's entry t. A subtree
+//     that at most WalkOptions::single_ray_lanes lanes reach is walked lane
+//     by lane as single rays (float lanes only: double lanes always walk as
+//     one packet, f64 is a checking mode whose node tests stay in double).
+//   A packet's leaf that few lanes reach, and every leaf of a single-ray
+//     walk inside a packet, is handed to the leaf function as LaneOf (where
+//     it takes one): that lane's ray against the leaf's primitives in the
+//     lanes.
+//     The thresholds and orders were chosen by measurement
+//     (docs/performance.md).
 //
 // Filling the view from the kernels' Ray<T, P> (packet_kernels.hpp):
 //   const auto view = bvh::make_ray_view(r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tmin);
@@ -100,6 +105,15 @@ inline RayView<T> make_ray_view(const T& ox, const T& oy, const T& oz, const T& 
     return {ox, oy, oz, inverse_direction(dx), inverse_direction(dy), inverse_direction(dz), tmin};
 }
 
+// What a walk hands a leaf function visited by one lane of a packet alone,
+// where the function has an overload for it: the function may then test that
+// lane's ray against the leaf's primitives side by side in the lanes (one
+// instruction for up to 8 primitives) instead of each primitive against the
+// whole packet with one useful lane.
+struct LaneOf {
+    int lane;
+};
+
 struct WalkOptions {
     // A packet's subtree reached by at most this many lanes is walked lane by
     // lane (float lanes; 0: never). See bench/bench_bvh.cpp for the measure.
@@ -114,6 +128,12 @@ struct WalkOptions {
     // it diverges was faster at every size of the cost curve, incoherent
     // rays 1.1-4.7x (docs/performance.md, issue 18).
     bool split_octants = false;
+    // A packet's leaf reached by at most this many lanes (float lanes, with
+    // a leaf function that takes LaneOf) is tested lane by lane, each ray
+    // against the leaf's primitives in the lanes.
+    int leaf_lanes_alone = 2;
+    // Packets of float lanes in one direction octant walk by their hull.
+    bool hull = true;
 };
 
 namespace detail {
@@ -171,30 +191,67 @@ struct SingleRay {
     bool neg[3];
 };
 
-// The bits of the children a single ray enters before `limit` (its tbest),
-// with their entry t in `entry`.
-inline unsigned enter_children(const Node8& node, const SingleRay& r, float limit, float entry[kWidth]) {
+// The bits of a node's used child slots.
+inline unsigned used_children(const Node8& node) {
+#if defined(__AVX2__)
+    const __m256i c = _mm256_load_si256(reinterpret_cast<const __m256i*>(node.child));
+    const __m256i empty = _mm256_set1_epi32(kEmptySlot);
+    return ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(c, empty)))) & 0xffu;
+#else
+    return (1u << node.child_count()) - 1u;
+#endif
+}
+
+// The bits of the used children whose slab interval, clipped to [tmin,
+// limit], is non-empty (with the slack), and their entry t in `entry`:
+// axis(a, lo, hi, enter, leave) narrows a batch of children's interval by
+// axis a (lo, hi: the batch's bounds on that axis).
+template <class Axis>
+inline unsigned test_children(const Node8& node, float tmin, float limit, float entry[kWidth], Axis&& axis) {
     using N = NodeBatch;
     constexpr int w = int(N::size);
     const float* lo[3] = {node.lo_x, node.lo_y, node.lo_z};
     const float* hi[3] = {node.hi_x, node.hi_y, node.hi_z};
     unsigned bits = 0;
     for (int i = 0; i < kWidth; i += w) {
-        N enter = N(r.tmin), leave = N(limit);
-        for (int a = 2; a >= 0; --a) {  // max(t, acc): a NaN t is dropped
-            const N o(r.o[a]), inv(r.inv[a]);
-            const N t_near = (N::load_aligned((r.neg[a] ? hi[a] : lo[a]) + i) - o) * inv;
-            const N t_far = (N::load_aligned((r.neg[a] ? lo[a] : hi[a]) + i) - o) * inv;
-            enter = lane::max(t_near, enter);
-            leave = lane::min(t_far, leave);
-        }
+        N enter = N(tmin), leave = N(limit);
+        for (int a = 2; a >= 0; --a) axis(a, lo[a] + i, hi[a] + i, enter, leave);
         enter.store_aligned(entry + i);
         bits |= lane::bits(enter <= grow(leave)) << i;
     }
     // Unused slots have empty bounds, which no slab test enters, except a ray
     // whose every slab term is NaN and dropped (a NaN origin: a shadow ray
     // from a hit point that overflowed): never hand out their kEmptySlot.
-    return bits & ((1u << node.child_count()) - 1u);
+    return bits & used_children(node);
+}
+
+// The children a single ray enters before `limit` (its tbest).
+inline unsigned enter_children(const Node8& node, const SingleRay& r, float limit, float entry[kWidth]) {
+    using N = NodeBatch;
+    return test_children(node, r.tmin, limit, entry, [&](int a, const float* lo, const float* hi, N& enter, N& leave) {
+        const N o(r.o[a]), inv(r.inv[a]);  // max(t, acc): a NaN t is dropped
+        enter = lane::max((N::load_aligned(r.neg[a] ? hi : lo) - o) * inv, enter);
+        leave = lane::min((N::load_aligned(r.neg[a] ? lo : hi) - o) * inv, leave);
+    });
+}
+
+// The entered children `bits` in visiting order, last first: by entry,
+// farthest first (the later slot first on a tie), when `nearest_first`,
+// else the last slot first. Returns how many.
+inline int order_children(unsigned bits, const float entry[kWidth], bool nearest_first, int idx[kWidth]) {
+    int n = 0;
+    for (; bits != 0; bits &= bits - 1) idx[n++] = __builtin_ctz(bits);
+    if (nearest_first) {  // insertion sort
+        for (int i = 1; i < n; ++i) {
+            const int v = idx[i];
+            int j = i;
+            for (; j > 0 && entry[idx[j - 1]] < entry[v]; --j) idx[j] = idx[j - 1];
+            idx[j] = v;
+        }
+    } else {
+        for (int i = 0, j = n - 1; i < j; ++i, --j) std::swap(idx[i], idx[j]);
+    }
+    return n;
 }
 
 template <class T>
@@ -208,53 +265,90 @@ inline SingleRay single_ray(const RayView<T>& r, int i) {
     return s;
 }
 
-// Pushes the entered children `bits` of `node`, farthest first when
-// `nearest_first` (so the nearest pops first), else the last slot first.
-inline void push_children(const Node8& node, unsigned bits, const float entry[kWidth], bool nearest_first,
-                          std::int32_t* stack_ref, float* stack_t, int& top) {
-    int idx[kWidth], n = 0;
-    for (; bits != 0; bits &= bits - 1) idx[n++] = __builtin_ctz(bits);
-    if (nearest_first) {  // insertion sort, farthest first
-        for (int i = 1; i < n; ++i) {
-            const int v = idx[i];
-            int j = i;
-            for (; j > 0 && entry[idx[j - 1]] < entry[v]; --j) idx[j] = idx[j - 1];
-            idx[j] = v;
-        }
+// Lane i's visit of leaf `l`: with LaneOf where the leaf function takes it
+// (packets only: one lane of float has nothing to put side by side).
+template <class T, class LeafFn>
+inline void visit_lane(LeafFn& leaf, const Leaf& l, int i, const Mask<T>& alone) {
+    if constexpr (lane::width<T> > 1 && std::is_invocable_v<LeafFn&, const Leaf&, LaneOf>) {
+        (void)alone;
+        leaf(l, LaneOf{i});
     } else {
-        for (int i = 0, j = n - 1; i < j; ++i, --j) std::swap(idx[i], idx[j]);
-    }
-    for (int i = 0; i < n; ++i) {
-        stack_ref[top] = node.child[idx[i]];
-        stack_t[top++] = entry[idx[i]];
+        (void)i;
+        leaf(l, alone);
     }
 }
+template <class T, class LeafFn>
+inline constexpr bool takes_lanes = lane::width<T> > 1 && std::is_invocable_v<LeafFn&, const Leaf&, LaneOf>;
 
-// The subtree `start` walked by lane i of the packet alone, as a single ray.
+// The subtree `start` walked by lane i of the packet alone, as a single ray:
+// each node's 8 children slab-tested at once; the nearest entered child is
+// visited next without a trip through the stack, the others pushed farthest
+// first (closest hit; any hit: in slot order); a popped entry whose entry t
+// lies beyond the ray's current best is dropped unvisited.
 template <bool Closest, class T, class LeafFn>
 void walk_single(const Bvh8& bvh, std::int32_t start, float start_t, const SingleRay& r, int i,
                  const Mask<T>& active, const T& tbest, LeafFn& leaf) {
     std::int32_t stack_ref[kStackSize];
     float stack_t[kStackSize];
     int top = 0;
-    stack_ref[top] = start;
-    stack_t[top++] = start_t;
     const Mask<T> alone = lane_alone<T>(i);
     float limit = float(lane_value(tbest, i));
     alignas(32) float entry[kWidth];
-    while (top > 0) {
-        --top;
-        const std::int32_t ref = stack_ref[top];
-        if (stack_t[top] > grow(limit)) continue;  // tbest has come nearer since the push
-        if (ref < 0) {
-            leaf(bvh.leaves[std::size_t(~ref)], alone);
+    std::int32_t ref = start;
+    if (start_t > grow(limit)) return;
+    for (;;) {
+        if (ref >= 0) {
+            const Node8& node = bvh.nodes[std::size_t(ref)];
+            unsigned bits = enter_children(node, r, limit, entry);
+            if (bits != 0) {
+                const int first = __builtin_ctz(bits);
+                bits &= bits - 1;
+                if (bits == 0) {  // one child: straight on
+                    ref = node.child[first];
+                    continue;
+                }
+                if (!Closest) {  // any order: the first slot next, the rest pushed
+                    for (; bits != 0; bits &= bits - 1) {
+                        const int c = __builtin_ctz(bits);
+                        stack_ref[top] = node.child[c];
+                        stack_t[top++] = entry[c];
+                    }
+                    ref = node.child[first];
+                    continue;
+                }
+                const int second = __builtin_ctz(bits);
+                bits &= bits - 1;
+                if (bits == 0) {  // two: the nearer next (the later slot on a tie), the farther pushed
+                    const bool keep = entry[first] < entry[second];
+                    const int near = keep ? first : second, far = keep ? second : first;
+                    stack_ref[top] = node.child[far];
+                    stack_t[top++] = entry[far];
+                    ref = node.child[near];
+                    continue;
+                }
+                // Three or more: insertion sort, farthest first onto the
+                // stack; the nearest is taken straight off again.
+                int idx[kWidth];
+                const int n = order_children(bits | (1u << first) | (1u << second), entry, true, idx);
+                for (int a = 0; a + 1 < n; ++a) {
+                    stack_ref[top] = node.child[idx[a]];
+                    stack_t[top++] = entry[idx[a]];
+                }
+                ref = node.child[idx[n - 1]];
+                continue;
+            }
+        } else {
+            visit_lane<T>(leaf, bvh.leaves[std::size_t(~ref)], i, alone);
             if constexpr (Closest) limit = float(lane_value(tbest, i));
             else if (!lane_on(lane::bits(active), i)) return;
-            continue;
         }
-        const Node8& node = bvh.nodes[std::size_t(ref)];
-        const unsigned bits = enter_children(node, r, limit, entry);
-        push_children(node, bits, entry, Closest, stack_ref, stack_t, top);
+        // Next: the top of the stack that is still nearer than the best hit.
+        for (;;) {
+            if (top == 0) return;
+            --top;
+            if (!(stack_t[top] > grow(limit))) break;
+        }
+        ref = stack_ref[top];
     }
 }
 
@@ -289,8 +383,18 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
         const std::int32_t ref = stack_ref[top];
         const Mask<T> on = group && active && pop_t() <= grow(tbest);
         if (!lane::any(on)) continue;
-        if (ref < 0) {  // a leaf: one call for all its lanes, however few (a single-ray walk would call it per lane)
-            leaf(bvh.leaves[std::size_t(~ref)], on);
+        if (ref < 0) {  // a leaf: one call for all its lanes, or one per lane where few reach it
+            const Leaf& l = bvh.leaves[std::size_t(~ref)];
+            if constexpr (takes_lanes<T, LeafFn>) {
+                if (lane::count(on) <= opt.leaf_lanes_alone) {
+                    for (unsigned bits = lane::bits(on); bits != 0; bits &= bits - 1) {
+                        leaf(l, LaneOf{__builtin_ctz(bits)});
+                        if (!Closest && !lane::any(active)) return;
+                    }
+                    continue;
+                }
+            }
+            leaf(l, on);
             if (!Closest && !lane::any(active)) return;
             continue;
         }
@@ -345,6 +449,133 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
     }
 }
 
+// A coherent packet's walk (float lanes, every active lane in one direction
+// octant, finite reciprocals): each node's 8 children are tested once for
+// the whole packet, against the interval hull of its rays (origins in
+// [o_lo, o_hi], reciprocal directions in [inv_lo, inv_hi] per axis). By the
+// monotonicity of rounding, the hull's entry bound is no greater, and its
+// exit bound no smaller, than any lane's own float slab values, so a child
+// the hull misses is one no lane enters. Children are visited nearest hull
+// entry first. A leaf's lanes are found exactly (its box against each lane)
+// before its leaf function runs; few of them go alone (LaneOf).
+struct Hull {
+    float o_lo[3], o_hi[3], inv_lo[3], inv_hi[3], tmin;
+    bool neg[3];
+};
+
+template <class T>
+inline bool make_hull(const RayView<T>& r, const Mask<T>& active, Hull& h) {
+    const T inf(std::numeric_limits<float>::infinity());
+    const T* o[3] = {&r.ox, &r.oy, &r.oz};
+    const T* inv[3] = {&r.inv_dx, &r.inv_dy, &r.inv_dz};
+    for (int a = 0; a < 3; ++a) {
+        const Mask<T> neg = *inv[a] < T(0);
+        if (lane::any(active && neg) && lane::any(active && lane::not_(neg))) return false;  // octants differ
+        if (lane::any(active && lane::not_(lane::abs(*inv[a]) < inf))) return false;     // an axis-parallel ray
+        h.neg[a] = lane::any(active && neg);
+        h.o_lo[a] = lane::lane0(lane::hmin(lane::select(active, *o[a], inf)));
+        h.o_hi[a] = lane::lane0(lane::hmax(lane::select(active, *o[a], T(0) - inf)));
+        h.inv_lo[a] = lane::lane0(lane::hmin(lane::select(active, *inv[a], inf)));
+        h.inv_hi[a] = lane::lane0(lane::hmax(lane::select(active, *inv[a], T(0) - inf)));
+    }
+    h.tmin = lane::lane0(lane::hmin(lane::select(active, r.tmin, inf)));
+    return true;
+}
+
+// The children the hull enters before `limit` (the greatest tbest of the
+// active lanes), with the hull's entry bounds in `entry`.
+inline unsigned hull_children(const Node8& node, const Hull& h, float limit, float entry[kWidth]) {
+    using N = NodeBatch;
+    return test_children(node, h.tmin, limit, entry, [&](int a, const float* lo, const float* hi, N& enter, N& leave) {
+        const N inv_lo(h.inv_lo[a]), inv_hi(h.inv_hi[a]);
+        // d > 0: t falls as o grows; d < 0: it rises (near - o and 1/d of opposite signs there).
+        const N near_d = N::load_aligned(h.neg[a] ? hi : lo) - N(h.neg[a] ? h.o_lo[a] : h.o_hi[a]);
+        const N far_d = N::load_aligned(h.neg[a] ? lo : hi) - N(h.neg[a] ? h.o_hi[a] : h.o_lo[a]);
+        enter = lane::max(lane::min(near_d * inv_lo, near_d * inv_hi), enter);
+        leave = lane::min(lane::max(far_d * inv_lo, far_d * inv_hi), leave);
+    });
+}
+
+// The lanes of `on` that enter child c of `node` before their tbest (the
+// packet walk's own test).
+template <class T>
+inline Mask<T> lanes_entering(const Node8& node, int c, const RayView<T>& r, const Mask<T>& on, const T& tbest) {
+    using S = lane::Scalar<T>;
+    auto axis = [&](float lo, float hi, const T& o, const T& inv, T& enter, T& leave) {
+        const Mask<T> neg = inv < T(0);
+        const T l = T(S(lo)), h = T(S(hi));
+        enter = lane::max((lane::select(neg, h, l) - o) * inv, enter);
+        leave = lane::min((lane::select(neg, l, h) - o) * inv, leave);
+    };
+    T enter = r.tmin, leave = tbest;
+    axis(node.lo_z[c], node.hi_z[c], r.oz, r.inv_dz, enter, leave);
+    axis(node.lo_y[c], node.hi_y[c], r.oy, r.inv_dy, enter, leave);
+    axis(node.lo_x[c], node.hi_x[c], r.ox, r.inv_dx, enter, leave);
+    return on && enter <= grow(leave);
+}
+
+template <bool Closest, class T, class LeafFn>
+bool walk_hull(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, const T& tbest, LeafFn& leaf,
+               const WalkOptions& opt) {
+    Hull h;
+    if (!make_hull(r, active, h)) return false;
+    const T ninf(-std::numeric_limits<float>::infinity());
+    auto farthest = [&]() { return float(lane::lane0(lane::hmax(lane::select(active, tbest, ninf)))); };
+    struct Entry {
+        std::int32_t node;  // the parent of the child to visit
+        std::int8_t slot;
+        float t;
+    };
+    Entry stack[kStackSize];
+    int top = 0;
+    float limit = farthest();
+    alignas(32) float entry[kWidth];
+    std::int32_t ref = 0;
+    std::int32_t parent = -1;
+    int slot = 0;
+    for (;;) {
+        if (ref >= 0) {
+            const Node8& node = bvh.nodes[std::size_t(ref)];
+            unsigned bits = hull_children(node, h, limit, entry);
+            if (bits != 0) {
+                int idx[kWidth];
+                const int n = order_children(bits, entry, Closest, idx);
+                for (int a = 0; a + 1 < n; ++a) stack[top++] = {ref, std::int8_t(idx[a]), entry[idx[a]]};
+                parent = ref, slot = idx[n - 1];
+                ref = node.child[slot];
+                continue;
+            }
+        } else {
+            const Node8& up = bvh.nodes[std::size_t(parent)];
+            const Mask<T> on = lanes_entering(up, slot, r, active, tbest);
+            if (lane::any(on)) {
+                const Leaf& l = bvh.leaves[std::size_t(~ref)];
+                if constexpr (takes_lanes<T, LeafFn>) {
+                    if (lane::count(on) <= opt.leaf_lanes_alone) {
+                        for (unsigned bits = lane::bits(on); bits != 0; bits &= bits - 1) {
+                            leaf(l, LaneOf{__builtin_ctz(bits)});
+                            if (!Closest && !lane::any(active)) return true;
+                        }
+                    } else {
+                        leaf(l, on);
+                    }
+                } else {
+                    leaf(l, on);
+                }
+                if (!Closest && !lane::any(active)) return true;
+                limit = farthest();
+            }
+        }
+        for (;;) {
+            if (top == 0) return true;
+            --top;
+            if (!(stack[top].t > grow(limit))) break;
+        }
+        parent = stack[top].node, slot = stack[top].slot;
+        ref = bvh.nodes[std::size_t(parent)].child[slot];
+    }
+}
+
 template <bool Closest, class T, class LeafFn>
 void walk(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, const T& tbest, LeafFn& leaf,
           const WalkOptions& opt) {
@@ -363,6 +594,8 @@ void walk(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, const T& 
             if (!Closest && !lane::any(active)) return;
         }
     } else {
+        if constexpr (std::is_same_v<lane::Scalar<T>, float> && lane::width<T> > 1)
+            if (opt.hull && walk_hull<Closest>(bvh, r, active, tbest, leaf, opt)) return;
         walk_packet<Closest>(bvh, r, lanes_of<T>(~0u), active, tbest, leaf, opt);
     }
 }

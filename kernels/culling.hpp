@@ -11,6 +11,14 @@
 
 namespace octray::kernels::OCTRAY_ISA {
 
+// A function object with the call operators of several lambdas.
+template <class... F>
+struct Overloaded : F... {
+    using F::operator()...;
+};
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
+
 template <PrimitiveType Type>
 using TypeTag = std::integral_constant<PrimitiveType, Type>;
 
@@ -38,44 +46,75 @@ inline bvh::RayView<T> ray_view(const Ray<T, P>& r) {
 // builder's largest leaf, bvh::BuildOptions::max_leaf_size).
 inline constexpr std::size_t kAnyHitAll = 8;
 
+// Types whose tests take one ray against a leaf's run side by side in the
+// lanes (test_run): the leaf kinds that are most of a large scene.
+template <PrimitiveType Type>
+inline constexpr bool kRunTested = Type == PrimitiveType::sphere || Type == PrimitiveType::triangle;
+
+// No run tests: every leaf's primitives are tested against the packet.
+struct NoRunTest {};
+
 // Calls test(TypeTag<type>{}, k) for every primitive k (index within its
 // type) of every leaf some valid lane of r may reach before its `limit`:
 // `closest` walks nearest first and re-reads limit (the caller's best t) after
 // each leaf; otherwise (any hit) the walk re-reads `active` and ends when no
 // lane is left. The box and triangle tests' per-ray setup is made the first
 // time a leaf holds such a primitive: most packets of most scenes reach none.
-template <bool Closest, unsigned F, class T, Precision P, class Test>
+// Where a packet's leaf is visited by one lane alone (bvh::LaneOf) and the
+// type is kRunTested, test_run(TypeTag<type>{}, k0, n, lane) tests that
+// lane's ray against primitives k0 .. k0 + n - 1 instead (SIMD lanes only).
+template <bool Closest, unsigned F, class T, Precision P, class Test, class TestRun = NoRunTest>
 OCTRAY_HOT void for_each_candidate(const SceneData& s, const Ray<T, P>& r, const Mask<T>& active, const T& limit,
-                                   Test&& test) {
+                                   Test&& test, TestRun&& test_run = {}) {
     if constexpr (bounded_bits(F) != 0) {
         if (s.bvh.empty()) return;
+        constexpr bool kRuns = lane::width<T> > 1 && std::is_same_v<lane::Scalar<T>, float> &&
+                               !std::is_same_v<std::decay_t<TestRun>, NoRunTest>;
         bool slabs = false, shear = false;
-        auto leaf = [&](const bvh::Leaf& l, const Mask<T>&) OCTRAY_HOT_LAMBDA {
+        auto setup = [&](auto tag) OCTRAY_HOT_LAMBDA {
+            constexpr PrimitiveType type = decltype(tag)::value;
+            if constexpr (type == PrimitiveType::box)
+                if (!slabs) make_slabs(r), slabs = true;
+            if constexpr (type == PrimitiveType::triangle)
+                if (!shear) make_shear(r), shear = true;
+        };
+        // run(tag, k0, n) for each type's run of leaf l, after its setup.
+        auto each_run = [&](const bvh::Leaf& l, auto&& run) OCTRAY_HOT_LAMBDA {
             for_each_bounded_type<F>([&](auto tag) OCTRAY_HOT_LAMBDA {
                 constexpr PrimitiveType type = decltype(tag)::value;
                 const int n = l.count[int(type)];
                 if (n == 0) return;
-                if constexpr (type == PrimitiveType::box)
-                    if (!slabs) make_slabs(r), slabs = true;
-                if constexpr (type == PrimitiveType::triangle)
-                    if (!shear) make_shear(r), shear = true;
-                const int k0 = int(l.begin[int(type)]);
-                for (int k = k0; k < k0 + n; ++k) test(tag, k);
+                setup(tag);
+                run(tag, int(l.begin[int(type)]), n);
             });
         };
-        if constexpr (Closest) {
-            bvh::traverse_closest(s.bvh, ray_view(r), active, limit, leaf);
-        } else if (s.bvh.primitive_count() <= kAnyHitAll) {
-            // Any hit among a leaf's worth of primitives (aobench's three
-            // spheres): every leaf, no walk. Testing them all costs about
-            // the root's node test, and needs no ray view (three divides).
-            for (const bvh::Leaf& l : s.bvh.leaves) {
-                leaf(l, active);
-                if (!lane::any(active)) return;
+        auto test_each = [&](auto tag, int k0, int n) OCTRAY_HOT_LAMBDA {
+            for (int k = k0; k < k0 + n; ++k) test(tag, k);
+        };
+        auto packet_leaf = [&](const bvh::Leaf& l, const Mask<T>&) OCTRAY_HOT_LAMBDA { each_run(l, test_each); };
+        auto lane_leaf = [&](const bvh::Leaf& l, bvh::LaneOf one) OCTRAY_HOT_LAMBDA {
+            each_run(l, [&](auto tag, int k0, int n) OCTRAY_HOT_LAMBDA {
+                if constexpr (kRuns && kRunTested<decltype(tag)::value>) test_run(tag, k0, n, one.lane);
+                else test_each(tag, k0, n);
+            });
+        };
+        auto walk = [&](auto&& leaf) OCTRAY_HOT_LAMBDA {
+            if constexpr (Closest) {
+                bvh::traverse_closest(s.bvh, ray_view(r), active, limit, leaf);
+            } else if (s.bvh.primitive_count() <= kAnyHitAll) {
+                // Any hit among a leaf's worth of primitives (aobench's three
+                // spheres): every leaf, no walk. Testing them all costs about
+                // the root's node test, and needs no ray view (three divides).
+                for (const bvh::Leaf& l : s.bvh.leaves) {
+                    packet_leaf(l, active);
+                    if (!lane::any(active)) return;
+                }
+            } else {
+                bvh::traverse_any(s.bvh, ray_view(r), active, limit, leaf);
             }
-        } else {
-            bvh::traverse_any(s.bvh, ray_view(r), active, limit, leaf);
-        }
+        };
+        if constexpr (kRuns) walk(Overloaded{packet_leaf, lane_leaf});
+        else walk(packet_leaf);
     }
 }
 

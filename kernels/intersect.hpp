@@ -46,10 +46,11 @@ inline void for_each_primitive_type(const SceneData& s, Body&& body) {
     if constexpr ((F & kTriangle) != 0) body(TypeTag<PrimitiveType::triangle>{}, s.count[5]);
 }
 
-// One corner of triangle k (`corner` is a.i0, a.i1 or a.i2), broadcast.
-template <class T>
-OCTRAY_HOT Vec3<T> triangle_vertex(const TriangleArrays& a, const std::vector<std::int32_t>& corner, int k) {
-    return broadcast3<T>(a.vx, a.vy, a.vz, corner[std::size_t(k)]);
+// Triangle k's vertices and normal, broadcast.
+template <class T, Precision P>
+OCTRAY_HOT T test_triangle(const TriangleArrays& a, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
+    return intersect_triangle(r, broadcast3<T>(a.ax, a.ay, a.az, k), broadcast3<T>(a.bx, a.by, a.bz, k),
+                              broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
 }
 
 // Sphere k; `near`: which root is the hit (sphere_hit).
@@ -58,6 +59,63 @@ OCTRAY_HOT T test_sphere(const SceneData& s, int k, const Ray<T, P>& r, Mask<T>&
     const SphereArrays& a = s.spheres;
     return intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit, tbest,
                             near);
+}
+
+// ---- one ray against a leaf's run, side by side in the lanes ----------------
+// Lane i of a packet's ray, broadcast to every lane: the same values the
+// packet tests use, so each (ray, primitive) pair computes bit for bit what
+// the packet test computes. Made once per lane and reused while the walk
+// stays on that lane; the triangle shear is copied once the packet has it.
+template <class T, Precision P>
+struct LaneRay {
+    explicit LaneRay(const Ray<T, P>& r) : packet(r) {}
+    const Ray<T, P>& packet;
+    int lane = -1;
+    bool shear = false;
+    Ray<T, P> one;
+
+    const Ray<T, P>& at(int i, bool need_shear) {
+        auto b = [i](const T& v) { return T(bvh::detail::lane_value(v, i)); };
+        auto b3 = [&](const Vec3<T>& v) { return Vec3<T>{b(v.x), b(v.y), b(v.z)}; };
+        if (i != lane) {
+            one.o = b3(packet.o), one.d = b3(packet.d);
+            one.tmin = b(packet.tmin), one.tmax = b(packet.tmax);
+            one.valid = Mask<T>(true), one.invalid = Mask<T>(false);
+            one.dd = b(packet.dd), one.inv_dd = b(packet.inv_dd), one.neg_inv_dd = b(packet.neg_inv_dd);
+            one.exit_scale = b(packet.exit_scale), one.len_d = b(packet.len_d);
+            lane = i, shear = false;
+        }
+        if (need_shear && !shear) one.proj_a = b3(packet.proj_a), one.proj_b = b3(packet.proj_b), shear = true;
+        return one;
+    }
+};
+
+// Where a run test's lanes stand: lane j tests primitive k0 + j; lanes past
+// the run's n primitives are off.
+template <class T>
+inline Mask<T> run_lanes(int n) {
+    alignas(64) static constexpr float kIota[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+    return load<T>(kIota, 0) < T(float(n));
+}
+template <class T>
+inline Vec3<T> load_run3(const Floats& x, const Floats& y, const Floats& z, int k) {
+    return {load<T>(x.data(), k), load<T>(y.data(), k), load<T>(z.data(), k)};
+}
+
+// One ray (`one`, broadcast) against primitives k .. k + width - 1 of a type,
+// in the lanes; only the lanes of run_lanes(n) count.
+template <PrimitiveType Type, class T, Precision P>
+OCTRAY_HOT T test_run(const SceneData& s, int k, const Ray<T, P>& one, Mask<T>& hit, const T& tbest, Mask<T>& near) {
+    if constexpr (Type == PrimitiveType::sphere) {
+        const SphereArrays& a = s.spheres;
+        return intersect_sphere(one, load_run3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{load<T>(a.radius.data(), k)},
+                                hit, tbest, near);
+    } else {
+        static_assert(Type == PrimitiveType::triangle, "run tests: spheres and triangles");
+        const TriangleArrays& a = s.triangles;
+        return intersect_triangle(one, load_run3<T>(a.ax, a.ay, a.az, k), load_run3<T>(a.bx, a.by, a.bz, k),
+                                  load_run3<T>(a.cx, a.cy, a.cz, k), load_run3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
+    }
 }
 
 // Tests primitive k of type `Type` (parameters broadcast from the scene arrays).
@@ -83,15 +141,14 @@ OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Ray<T, P>& r, Mask<
         return intersect_box(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit,
                      tbest);
     } else {
-        const TriangleArrays& a = s.triangles;
-        return intersect_triangle(r, triangle_vertex<T>(a, a.i0, k), triangle_vertex<T>(a, a.i1, k),
-                                  triangle_vertex<T>(a, a.i2, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
+        return test_triangle(s.triangles, k, r, hit, tbest);
     }
 }
 
 template <class T, Precision P, unsigned F>
 inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
     Closest<T> best{r.tmax, T(-1)};
+    LaneRay<T, P> lanes(r);
     if constexpr ((F & kPlane) != 0) {
         const int base = s.offset[int(PrimitiveType::plane)];
         for (int k = 0; k < s.count[int(PrimitiveType::plane)]; ++k) {
@@ -110,6 +167,27 @@ inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
         } else {
             const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
             best.take(hit, t, s.offset[int(type)] + k);
+        }
+    }, [&](auto tag, int k0, int n, int i) OCTRAY_HOT_LAMBDA {
+        // Lane i alone: its ray against the run, nearest t kept, the lowest
+        // index on a tie (the packet test's order: later ones must be nearer).
+        constexpr PrimitiveType type = decltype(tag)::value;
+        constexpr int W = lane::width<T>;
+        const Ray<T, P>& one = lanes.at(i, type == PrimitiveType::triangle);
+        T tbest(bvh::detail::lane_value(best.t, i));
+        for (int j = 0; j < n; j += W) {
+            Mask<T> hit, near;
+            const T t = test_run<type>(s, k0 + j, one, hit, tbest, near);
+            hit = hit && run_lanes<T>(n - j);
+            if (!lane::any(hit)) continue;
+            tbest = T(lane::hmin(lane::select(hit, t, inf<T>())));
+            const int first = __builtin_ctz(lane::bits(hit && t == tbest));
+            const Mask<T> alone = bvh::detail::lane_alone<T>(i);
+            if constexpr (type == PrimitiveType::sphere)
+                best.take(alone, tbest, s.offset[int(type)] + k0 + j + first,
+                          Mask<T>(((lane::bits(near) >> first) & 1u) != 0));
+            else
+                best.take(alone, tbest, s.offset[int(type)] + k0 + j + first);
         }
     });
     return best;
@@ -228,6 +306,7 @@ int intersect_packet(const PacketScene& scene, const RayPacket8& rp, HitPacket8&
 template <class T, Precision P, unsigned F>
 inline Mask<T> any_hit(const SceneData& s, Ray<T, P>& live) {
     const Mask<T> valid = live.valid;
+    LaneRay<T, P> lanes(live);
     if constexpr ((F & kPlane) != 0) {
         for (int k = 0; k < s.count[int(PrimitiveType::plane)] && lane::any(live.valid); ++k) {
             Mask<T> hit;
@@ -241,6 +320,17 @@ inline Mask<T> any_hit(const SceneData& s, Ray<T, P>& live) {
             Mask<T> hit;
             test_primitive<type, T, P>(s, k, live, hit, live.tmax);
             live.valid = live.valid && lane::not_(hit);
+        }, [&](auto tag, int k0, int n, int i) OCTRAY_HOT_LAMBDA {
+            constexpr PrimitiveType type = decltype(tag)::value;
+            const Ray<T, P>& one = lanes.at(i, type == PrimitiveType::triangle);
+            for (int j = 0; j < n; j += lane::width<T>) {
+                Mask<T> hit, near;
+                test_run<type>(s, k0 + j, one, hit, one.tmax, near);
+                if (lane::any(hit && run_lanes<T>(n - j))) {
+                    live.valid = live.valid && lane::not_(bvh::detail::lane_alone<T>(i));
+                    return;
+                }
+            }
         });
     return valid && lane::not_(live.valid);
 }

@@ -1,6 +1,7 @@
 // kernels/packet_scene.cpp — Scene (AoS, double) -> PacketScene (SoA, float).
 #include "compile_options.hpp"
 #include "scene_data.hpp"
+#include <octray/packet.hpp>
 #include <octray/reference.hpp>
 
 #include <algorithm>
@@ -19,6 +20,13 @@ Vec3d normalized(const Vec3d& v) { return unit_direction(v); }  // the reference
 
 void push(Floats& a, double v) { a.push_back(float(v)); }
 void push3(Floats& x, Floats& y, Floats& z, const Vec3d& v) { push(x, v.x), push(y, v.y), push(z, v.z); }
+
+void push_triangle(TriangleArrays& a, const Triangle& t) {
+    push3(a.ax, a.ay, a.az, t.v0);
+    push3(a.bx, a.by, a.bz, t.v1);
+    push3(a.cx, a.cy, a.cz, t.v2);
+    push3(a.nx, a.ny, a.nz, normalized(cross(t.v1 - t.v0, t.v2 - t.v0)));
+}
 
 // Pads every array of `arrays` to a multiple of the packet width with copies
 // of element 0 (or zeros), so whole-width loads past the end stay in bounds.
@@ -111,13 +119,7 @@ void append_primitive(SceneData& s, const Shape& shape) {
                 push3(a.minx, a.miny, a.minz, p.min);
                 push3(a.maxx, a.maxy, a.maxz, p.max);
             } else {
-                auto& a = s.triangles;
-                const auto first = std::int32_t(a.vx.size());
-                push3(a.vx, a.vy, a.vz, p.v0);
-                push3(a.vx, a.vy, a.vz, p.v1);
-                push3(a.vx, a.vy, a.vz, p.v2);
-                a.i0.push_back(first), a.i1.push_back(first + 1), a.i2.push_back(first + 2);
-                push3(a.nx, a.ny, a.nz, normalized(cross(p.v1 - p.v0, p.v2 - p.v0)));
+                push_triangle(s.triangles, p);
             }
         },
         shape);
@@ -180,14 +182,10 @@ PacketScene compile(const Scene& scene) {
         input.boxes.push_back(box_of(scene.objects[i].shape));
         input.kind.push_back(std::uint8_t(type));
     }
-    // Mesh vertices once each, in float; triangles index them.
-    std::vector<std::int32_t> vertex_base;   // per mesh: its first vertex in s.triangles
     std::vector<std::size_t> first_triangle;  // per mesh: its first triangle's primitive id
     std::size_t id = object_count;
     for (const Mesh& m : scene.meshes) {
-        vertex_base.push_back(std::int32_t(s.triangles.vx.size()));
         first_triangle.push_back(id);
-        for (const Vec3d& v : m.vertices) push3(s.triangles.vx, s.triangles.vy, s.triangles.vz, v);
         for (std::size_t k = 0; k < m.triangle_count(); ++k, ++id) {
             of_type[std::size_t(PrimitiveType::triangle)].push_back(id);
             input.boxes.push_back(box_of(reference::mesh_triangle(m, k)));
@@ -220,12 +218,7 @@ PacketScene compile(const Scene& scene) {
             const std::size_t k = i - first_triangle[m];
             s.material_of[cid] = float(mesh.material);
             s.mesh_of[cid] = float(m);
-            auto& a = s.triangles;
-            a.i0.push_back(vertex_base[m] + std::int32_t(mesh.indices[3 * k]));
-            a.i1.push_back(vertex_base[m] + std::int32_t(mesh.indices[3 * k + 1]));
-            a.i2.push_back(vertex_base[m] + std::int32_t(mesh.indices[3 * k + 2]));
-            const Triangle tri = reference::mesh_triangle(mesh, k);
-            push3(a.nx, a.ny, a.nz, normalized(cross(tri.v1 - tri.v0, tri.v2 - tri.v0)));
+            push_triangle(s.triangles, reference::mesh_triangle(mesh, k));
         }
     }
     pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.inv_radius, s.spheres.radius);
@@ -235,7 +228,10 @@ PacketScene compile(const Scene& scene) {
     pad(r.cx, r.cy, r.cz, r.nx, r.ny, r.nz, r.dual_ax, r.dual_ay, r.dual_az, r.dual_bx, r.dual_by, r.dual_bz);
     pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
     auto& t = s.triangles;
-    pad(t.vx, t.vy, t.vz, t.nx, t.ny, t.nz);
+    // A whole packet width past the last triangle: a leaf's run loads 8 from its start.
+    for (Floats* f : {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz})
+        f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
+    pad(t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz, t.nx, t.ny, t.nz);
     if (total == 0) {  // keep the miss lanes' id lookups in bounds for an object-free scene
         s.object_of.push_back(0.0f);
         s.material_of.push_back(0.0f);

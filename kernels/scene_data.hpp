@@ -28,13 +28,14 @@ struct DiskArrays { Floats cx, cy, cz, nx, ny, nz, radius2; };
 // p = corner + s a + t b; s = (p - corner).dual_a, t = (p - corner).dual_b.
 struct RectangleArrays { Floats cx, cy, cz, nx, ny, nz, dual_ax, dual_ay, dual_az, dual_bx, dual_by, dual_bz; };
 struct BoxArrays { Floats minx, miny, minz, maxx, maxy, maxz; };
-// Indexed triangles, meshes' and single ones alike: shared vertices (as
-// given: the watertight test works in ray-relative space), three vertex
-// indices and the unit normal per triangle.
+// Triangles, meshes' and single ones alike, laid out per triangle: the three
+// vertices (as given: the watertight test works in ray-relative space) and
+// the unit normal. A leaf's triangles are one run of these arrays, so one ray
+// tests 8 of them with contiguous loads (no index gathers); the arrays carry
+// a packet width of padding past the last run for those loads.
 struct TriangleArrays {
-    Floats vx, vy, vz;                       // per vertex
-    std::vector<std::int32_t> i0, i1, i2;    // per triangle
-    Floats nx, ny, nz;                       // per triangle
+    Floats ax, ay, az, bx, by, bz, cx, cy, cz;  // vertices v0, v1, v2
+    Floats nx, ny, nz;
 };
 
 // ls * color premultiplied per light; shadows as 0/1 floats.

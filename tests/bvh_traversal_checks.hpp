@@ -89,14 +89,21 @@ struct Packet {
     // Random rays; one in four with a zero direction component, aimed at a
     // box's face centre, mostly from a point on that face's plane (0 * inf
     // = NaN in the slab test there).
-    Packet(BvhLcg& rng, const bvh::BuildInput& in) {
+    // Coherent: one direction octant, origins and directions close together
+    // (a camera's packet), which the hull walk takes.
+    Packet(BvhLcg& rng, const bvh::BuildInput& in, bool coherent = false) {
         S d[3][W], org[3][W];
+        float base_o[3], base_d[3];
+        for (int a = 0; a < 3; ++a) {
+            base_o[a] = rng.range(-14.0f, 14.0f);
+            base_d[a] = rng.range(0.2f, 1.0f) * ((rng.next() & 1) ? 1.0f : -1.0f);
+        }
         for (int i = 0; i < W; ++i) {
             for (int a = 0; a < 3; ++a) {
-                org[a][i] = S(rng.range(-14.0f, 14.0f));
-                d[a][i] = S(rng.range(-1.0f, 1.0f));
+                org[a][i] = coherent ? S(base_o[a] + rng.range(-0.5f, 0.5f)) : S(rng.range(-14.0f, 14.0f));
+                d[a][i] = coherent ? S(base_d[a] + rng.range(-0.1f, 0.1f)) : S(rng.range(-1.0f, 1.0f));
             }
-            if (rng.next() % 4 == 0) {  // aimed at a box's face centre, in the face's plane or beside it
+            if (!coherent && rng.next() % 4 == 0) {  // aimed at a box's face centre, in the face's plane or beside it
                 const int a = int(rng.next() % 3);
                 const bvh::Box& b = in.boxes[rng.next() % in.boxes.size()];
                 for (int e = 0; e < 3; ++e) d[e][i] = S(0.5f * (b.lo[e] + b.hi[e])) - org[e][i];
@@ -135,12 +142,15 @@ void check_walks(std::uint32_t seed, int packets) {
         const auto& leaves = scene.tree.leaves;
         BvhLcg rng{seed * 7u + 1u};
         for (int p = 0; p < packets; ++p) {
-            const Packet<T> pk(rng, scene.input);
-            for (const int single : {0, 2, W}) {
+            const bool coherent = p % 2 == 1;
+            const Packet<T> pk(rng, scene.input, coherent);
+            for (const int single : {0, 2, W, -1}) {
                 bvh::WalkOptions opt;
-                opt.single_ray_lanes = single;
+                opt.single_ray_lanes = std::max(single, 0);
+                opt.hull = single < 0;  // the hull walk (coherent packets of float lanes)
                 CAPTURE(max_leaf);
                 CAPTURE(p);
+                CAPTURE(coherent);
                 CAPTURE(single);
                 const lane::Mask<T> on = L::mask(pk.on);
 

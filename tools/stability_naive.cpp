@@ -131,8 +131,7 @@ int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
             }
             const TriangleArrays& ta = s.triangles;
             for (int k = 0; k < s.count[5]; ++k)
-                take(triangle(o, d, at(ta.vx, ta.vy, ta.vz, ta.i0[std::size_t(k)]), at(ta.vx, ta.vy, ta.vz, ta.i1[std::size_t(k)]),
-                              at(ta.vx, ta.vy, ta.vz, ta.i2[std::size_t(k)])),
+                take(triangle(o, d, at(ta.ax, ta.ay, ta.az, k), at(ta.bx, ta.by, ta.bz, k), at(ta.cx, ta.cy, ta.cz, k)),
                      s.offset[5] + k, at(ta.nx, ta.ny, ta.nz, k));
         }
         if (dot(n, d) > 0) n = n * -1.0f;
