@@ -1,4 +1,4 @@
-// kernels/occlusion.hpp — ambient occlusion (DESIGN.md, "Ambient occlusion";
+// kernels/occlusion.hpp — ambient occlusion (docs/shading-model.md, "Ambient occlusion";
 // Suffern, "Ray Tracing from the Ground Up", ch. 17, the ambient occluder):
 // the ambient term of shade.hpp times max(min_amount, the fraction of
 // `samples` rays over the hemisphere about the facing normal that nothing

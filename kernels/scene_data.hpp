@@ -79,7 +79,7 @@ struct SceneData {
 
     OcclusionData occlusion;
 
-    // Per material, premultiplied: ka*cd ⋆ ls*cl (seed eq. 7) and kd*cd/pi (eq. 8).
+    // Per material, premultiplied: ka*cd ⋆ ls*cl (ambient) and kd*cd/pi (Lambertian BRDF).
     Floats ambient_r, ambient_g, ambient_b, diffuse_r, diffuse_g, diffuse_b;
 
     float background[3]{};

@@ -1,13 +1,13 @@
-// kernels/shade.hpp — Lambertian shading (the seed's eq. 7-8: ambient plus
+// kernels/shade.hpp — Lambertian shading (docs/shading-model.md: ambient plus
 // the sum of each light's kd cd / pi * ls cl * max(0, n.l), point lights with
-// eq. 6's 1/r^2 where attenuated), with shadow rays where a light casts them.
+// 1/r^2 where attenuated), with shadow rays where a light casts them.
 #pragma once
 
 #include "intersect.hpp"
 
 namespace octray::kernels::OCTRAY_ISA {
 
-// ---- shading (seed eq. 7-8) ------------------------------------------------
+// ---- shading (docs/shading-model.md) ---------------------------------------
 // The point a hit is shaded at: p = o + t d carries t's error, a few u t
 // along d (`reach` = t max|d_i|). A sphere's hit is c + r n_geo instead
 // where the sphere is smaller than that distance (r < reach): its normal came
@@ -148,7 +148,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
             }
             T weight = ndl;
             if constexpr (decltype(attenuated)::value) {
-                // eq. 6: 1/r^2. Below r ~ 1e-19 it overflows to +inf: the lit
+                // inverse square: 1/r^2. Below r ~ 1e-19 it overflows to +inf: the lit
                 // channels become +inf, never NaN (see accumulate).
                 const T inv_dist = inv_r * scale;
                 weight = weight * (inv_dist * inv_dist);
@@ -159,7 +159,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     if constexpr ((F & kPoint) != 0) point_lights(s.point, s.point_count, std::false_type{});
     if constexpr ((F & kPointAttenuated) != 0) point_lights(s.point_attenuated, s.point_attenuated_count, std::true_type{});
 
-    // L = ka cd * ls cl  +  kd cd / pi * E   (eq. 8, the diffuse factor taken out of the sum)
+    // L = ka cd * ls cl  +  kd cd / pi * E   (the diffuse factor taken out of the sum)
     const Lookup<T> material(m, hit);
     Vec3<T> c = hadamard(material(s.diffuse_r, s.diffuse_g, s.diffuse_b), e);
     // kd cd = 0 times an overflowed E = +inf is NaN; the radiance is 0 there
