@@ -1,4 +1,4 @@
-// bench/bench_scale.cpp — the cost curve against Embree 3 (issue 18): octray's
+// bench/bench_scale.cpp — the cost curve against Embree 3 (docs/performance.md): octray's
 // SIMD and scalar paths and Embree's rtcIntersect8/rtcOccluded8 and
 // rtcIntersect1/rtcOccluded1 on the same geometry and exactly the same rays,
 // from 16 to a million primitives. Scenes and rays: scale_common.hpp.

@@ -1,5 +1,5 @@
 // tools/commands.hpp — the `octray` subcommands, one function each.
-// Each returns the process exit status (DESIGN.md: 0 ok, 1 a failed
+// Each returns the process exit status (the contract: 0 ok, 1 a failed
 // verification, 2 bad input); bad input is thrown as an exception that
 // main() turns into one line on stderr.
 #pragma once

@@ -1,4 +1,4 @@
-// tools/main.cpp — the `octray` command-line program (DESIGN.md "Command line").
+// tools/main.cpp — the `octray` command-line program (README, "Command line").
 //
 // Exit status: 0 success, 1 a verification that failed, 2 bad input or usage
 // with exactly one line on standard error. Each subcommand is one function in

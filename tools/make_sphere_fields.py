@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the sphere-field scenes of issue 16 (many small, distant spheres).
+"""Writes the sphere-field scenes (many small, distant spheres: the sphere-frame hit's test).
 
     python3 tools/make_sphere_fields.py                 # scenes/sphere_field.json, scenes/sphere_field_far.json
     python3 tools/make_sphere_fields.py --issue DIR     # also the issue's own scenes, into DIR

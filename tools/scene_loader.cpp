@@ -80,7 +80,7 @@ struct SourceMap {
     }
 };
 
-// DESIGN.md: the loader stores directions normalized (every path would
+// docs/scene-format.md: the loader stores directions normalized (every path would
 // normalize them the same way anyway: scene.hpp, unit_direction).
 void normalize_directions(Scene& s) {
     s.camera.up = unit_direction(s.camera.up);
@@ -297,7 +297,7 @@ public:
         fail(path, "internal error: unhandled primitive type");
     }
 
-    // A mesh object (DESIGN.md, meshes): its model file read by load_model.
+    // A mesh object (docs/scene-format.md, meshes): its model file read by load_model.
     Mesh mesh(const Json& o, const std::string& opath) const {
         reject_unknown(o, opath, "a mesh", {"type", "file", "material", "transform"});
         const std::string fpath = member(opath, "file");

@@ -1,4 +1,4 @@
-// tools/stability_cases.hpp — the catalogue of stiff and extreme cases (issue 6).
+// tools/stability_cases.hpp — the catalogue of stiff and extreme cases (docs/accuracy.md).
 //
 // One list in code, shared by `octray stability` (tools/cmd_stability.cpp) and
 // the tests (tests/test_stability.cpp). Each case builds a small scene and a
@@ -40,7 +40,7 @@ struct Tracer {
     Path path = Path::simd;
     Precision precision = Precision::exact;
     bool naive = false;  // the textbook formulation (stability_naive.cpp), for the naive count only; the
-                         // sphere-frame cases run the kernels' formulation before issue 16 instead
+                         // sphere-frame cases run the kernels' formulation before the sphere-frame hit instead
     std::string name() const;  // "scalar/exact", "simd/fast14", "naive"
 };
 
