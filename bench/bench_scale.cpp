@@ -172,7 +172,8 @@ void register_all() {
 // OCTRAY_SCALE_LEAF, OCTRAY_SCALE_ICOST, OCTRAY_SCALE_TCOST: compile()'s BVH
 // max_leaf_size, intersection_cost and traversal_cost for this run (the
 // sweep of docs/performance.md); unset: the library's own. (The walk's
-// single_ray_lanes and octant split were swept the same way at 8de7b09.)
+// single_ray_lanes and octant split were swept the same way while the walk
+// was tuned: docs/performance.md, tuning the traversal.)
 int main(int argc, char** argv) {
     octray::bvh::BuildOptions& o = octray::compile_bvh_options();
     if (const char* v = std::getenv("OCTRAY_SCALE_LEAF")) o.max_leaf_size = std::atoi(v);

@@ -36,7 +36,7 @@ enum class OcclusionLayout {
     samples,  // samples k .. k+7 of one pixel: ceil(N / 8) packets per pixel hit
 };
 // The kernels' choice: `pixels`, the faster of the two on scenes/aobench.json
-// (bench/bench_aobench.cpp, ao/shade/*; the README gives the figures).
+// (bench/bench_aobench.cpp, ao/shade/*; docs/performance.md gives the figures).
 inline constexpr OcclusionLayout kOcclusionLayout = OcclusionLayout::pixels;
 
 // The primitive types sample rays test: the variant's own when F names some
