@@ -450,7 +450,7 @@ private:
 // without a word, so a repeated key is rejected here, and a number that
 // overflows a double is reported at its path. (The callback parser does the
 // same with a per-event callback, but its cost grows faster than the file:
-// 12 s for 262,144 objects.)
+// docs/performance.md, scale.)
 class PathTracker {
 public:
     using Dom = nlohmann::detail::json_sax_dom_parser<Json>;
