@@ -29,7 +29,7 @@ def write_bench_md(a, build, pin, rev, context, rows, peak, summary, rep, raw, c
               "FLOP/ray is counted from the kernel source (bench/bench_common.cpp explains the count); "
               "% of peak = GFLOP/s over the FMA peak below.\n\n")
 
-    md.append("## Targets (issues 4 and 20)\n\n")
+    md.append("## Targets\n\n")
     trows = []
     for key, thr in TARGETS.items():
         v = summary[key]
