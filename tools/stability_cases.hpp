@@ -5,7 +5,8 @@
 // few packets of rays, runs them through a Tracer — a packet kernel (path ×
 // precision mode) or the textbook formulation — and measures the result
 // against the double reference (kernels/reference.cpp) evaluated on exactly
-// the float inputs the kernel sees.
+// the float inputs the kernel sees. The cases are defined one family per file
+// over the shared checks of stability_check.hpp; stability_cases.cpp lists them.
 //
 // Error model. u = 2^-24 (float unit roundoff); eps = the mode's stated bound
 // for 1/x and 1/sqrt(x) (precision.hpp: div_bound, rsqrt_bound). A ray's
