@@ -5,7 +5,7 @@
 // Families (every one without a floor plane: Embree has no infinite plane):
 //   spheres      N random spheres in the cube [-4, 4]^3, radius
 //                4 N^(-1/3) U(0.5, 1) (about constant coverage), seed 7
-//   heightfield  tools/mesh_generators height_field(n), 2 n^2 triangles,
+//   heightfield  io/mesh_generators height_field(n), 2 n^2 triangles,
 //                scaled by 4 ([-4, 4]^2 in x-z, heights within +-1)
 //   model        the largest assimp test model octray loads (a mesh)
 // Camera: pinhole, fov 45, image x image pixels, the scene in view.

@@ -1,4 +1,4 @@
-// tests/test_model_loader.cpp — tools/model_loader and tools/mesh_generators.
+// tests/test_model_loader.cpp — io/model_loader and io/mesh_generators.
 //
 // Real models come from Debian's assimp-testmodels (OCTRAY_ASSIMP_MODELS, found at
 // configure time; tools/install-deps installs it). Counts are checked against what

@@ -1,4 +1,4 @@
-// tools/mesh_generators.cpp — see mesh_generators.hpp.
+// io/mesh_generators.cpp — see mesh_generators.hpp.
 #include "mesh_generators.hpp"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// tools/scene_loader.cpp — read scene JSON into an octray::Scene.
+// io/scene_loader.cpp — read scene JSON into an octray::Scene.
 //
 // The JSON's shape (types, required and unknown fields, names of types,
 // materials and enums) is checked here; value ranges, finiteness and

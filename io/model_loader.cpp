@@ -1,4 +1,4 @@
-// tools/model_loader.cpp — see model_loader.hpp.
+// io/model_loader.cpp — see model_loader.hpp.
 //
 // How a file is read (assimp 5.2, Debian's libassimp):
 // 1. The extension picks the format. .obj and .ply each have one assimp reader, which
