@@ -6,6 +6,8 @@
 #include "model_loader.hpp"
 #include "scene_data.hpp"
 
+#include <octray/constants.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -127,7 +129,7 @@ Rays incoherent_rays(const PacketScene& scene, const Rays& cam, float size) {
             const double t2[3] = {b, sgn + n[1] * n[1] * a, -n[1]};
             const std::uint64_t key = std::uint64_t(cam.pixel[p * 8 + std::size_t(i)]) * 2;
             const double u1 = uniform(key), u2 = uniform(key + 1);
-            const double rr = std::sqrt(u1), phi = 2 * M_PI * u2, z = std::sqrt(std::max(0.0, 1 - u1));
+            const double rr = std::sqrt(u1), phi = 2 * kPi * u2, z = std::sqrt(std::max(0.0, 1 - u1));
             const double lx = rr * std::cos(phi), ly = rr * std::sin(phi);
             const double off = 1e-4 * size;
             out.ox[fill] = float(c.ox[i] + c.dx[i] * t + n[0] * off);

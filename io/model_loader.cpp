@@ -29,6 +29,8 @@
 // is turned into an error here. A logger set by a host program is left alone.
 #include "model_loader.hpp"
 
+#include <octray/constants.hpp>
+
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/IOStream.hpp>
 #include <assimp/DefaultLogger.hpp>
@@ -97,7 +99,7 @@ void sin_cos_deg(double deg, double& s, double& c) {
         c = kCos[k];
         return;
     }
-    const double rad = deg * (M_PI / 180.0);
+    const double rad = deg * (kPi / 180.0);
     s = std::sin(rad);
     c = std::cos(rad);
 }
