@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -188,6 +189,14 @@ Scene make_scene(Family f, int n, int image) {
     return mesh_scene(load_model(model_path()), image, false);
 }
 
+CompileOptions compile_options() {
+    CompileOptions o;
+    if (const char* v = std::getenv("OCTRAY_SCALE_LEAF")) o.max_leaf_size = std::atoi(v);
+    if (const char* v = std::getenv("OCTRAY_SCALE_ICOST")) o.intersection_cost = float(std::atof(v));
+    if (const char* v = std::getenv("OCTRAY_SCALE_TCOST")) o.traversal_cost = float(std::atof(v));
+    return o;
+}
+
 World& world(Family f, int n, int image) {
     static std::map<std::tuple<int, int, int>, std::unique_ptr<World>> cache;
     auto& slot = cache[{int(f), n, image}];
@@ -196,7 +205,7 @@ World& world(Family f, int n, int image) {
     World& w = *slot;
     w.family = f;
     w.authored = make_scene(f, n, image);
-    w.scene = compile(w.authored);
+    w.scene = compile(w.authored, compile_options());
     w.primitives = w.scene.primitive_count();
     w.name = std::string(family_name(f)) + ":" + std::to_string(f == Family::model ? w.primitives : n);
     const bvh::Box& b = w.scene.data().bvh.bounds;

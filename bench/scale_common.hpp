@@ -78,6 +78,11 @@ struct World {
     ~World();
 };
 
+// compile()'s options for every world: the library's defaults, or for a
+// sweep (docs/performance.md) OCTRAY_SCALE_LEAF, OCTRAY_SCALE_ICOST and
+// OCTRAY_SCALE_TCOST: max_leaf_size, intersection_cost, traversal_cost.
+CompileOptions compile_options();
+
 // Everything above, made once per (family, n) and kept.
 World& world(Family f, int n, int image);
 bool is_mesh(const World& w);
