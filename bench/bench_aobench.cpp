@@ -47,6 +47,7 @@
 #endif
 
 #include <octray/kernels.hpp>
+#include <octray/render.hpp>
 
 #include <array>
 #include <cmath>

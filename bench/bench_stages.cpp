@@ -30,6 +30,8 @@
 
 #include <scene_loader.hpp>
 
+#include <octray/render.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
