@@ -25,7 +25,7 @@ bool always() { return true; }
 
 // The table, from the same list as the units themselves (CMakeLists.txt).
 const Unit kUnits[] = {
-#define OCTRAY_UNIT(name, path, isa, cpu_check, modes) {Path::path, isa, &cpu_check, &name##_kernel, &name##_blocks, modes},
+#define OCTRAY_UNIT(name, path, isa, cpu_check, modes) {Path::path, isa, &cpu_check, &name##_kernel, modes},
 #include "isa_units.inc"
 #undef OCTRAY_UNIT
 };
