@@ -9,6 +9,7 @@
 
 #include <octray/kernels.hpp>
 #include <octray/reference.hpp>
+#include <octray/threads.hpp>
 
 #include <string>
 #include <vector>
@@ -60,6 +61,8 @@ TEST_CASE("CompileOptions: the thread count never changes the tree; bad options 
         CHECK(p->data().bvh.nodes.size() == a.data().bvh.nodes.size());
         CHECK(p->data().spheres.cx == a.data().spheres.cx);
     }
+    CHECK(resolve_threads(5) == 5);  // the one rule: n > 0 is n, 0 every core
+    CHECK(resolve_threads(0) >= 1);
     for (auto broken : {+[](CompileOptions& o) { o.threads = -1; }, +[](CompileOptions& o) { o.max_leaf_size = 0; },
                         +[](CompileOptions& o) { o.bins = 1; }, +[](CompileOptions& o) { o.intersection_cost = 0; }}) {
         CompileOptions o;
