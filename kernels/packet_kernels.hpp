@@ -12,6 +12,7 @@
 //   culling.hpp     which bounded primitives a packet may hit: the BVH8 walk (bvh_traverse.hpp)
 //   intersect.hpp   closest hit, normals, any hit (shadow rays)
 //   shade.hpp       Lambertian shading
+//   shadow_ray.hpp  the offset ray from a shaded point (shadow and occlusion rays)
 //   sampling.hpp, occlusion.hpp   ambient occlusion: the sample generator, the visible fraction
 //   tonemap.hpp     tone mapping and gamma
 //   camera.hpp      camera rays

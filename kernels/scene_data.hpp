@@ -89,12 +89,4 @@ struct SceneData {
     float inv_gamma = 1;
 };
 
-// Test and benchmark hook: a compiled scene's data, writable; `scene` gets
-// its own copy first, so the copies it was made from or shared with keep theirs.
-SceneData& mutable_data(PacketScene& scene);
-
-// Test and benchmark hook: every node's children made infinite boxes, so a
-// walk skips nothing and tests every bounded primitive.
-void disable_culling(PacketScene& scene);
-
 }  // namespace octray

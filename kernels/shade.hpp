@@ -4,6 +4,8 @@
 #pragma once
 
 #include "intersect.hpp"
+#include "occlusion.hpp"
+#include "shadow_ray.hpp"
 
 namespace octray::kernels::OCTRAY_ISA {
 
@@ -35,25 +37,6 @@ inline Mask<T> sphere_surface_point(const SceneData& s, const T& object, const M
     return sure;
 }
 
-// Fills r with the shadow ray from p toward a light at distance `dist` along
-// unit `l`. The origin moves off the surface along the facing normal so the
-// surface does not shadow itself: by 1e-4 |p|, or by more than the hit point's error where the
-// precision mode's error over the camera ray's length `reach` (|p - o|, max
-// norm; 0 where p carries no t-sized error) is larger (precision.hpp, shadow_offset).
-template <class T, Precision P>
-inline void shadow_ray(Ray<T, P>& r, const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist,
-                       const Mask<T>& valid, const T& reach) {
-    const T scale = lane::max(lane::max(lane::abs(p.x), lane::abs(p.y)), lane::max(lane::abs(p.z), T(1)));
-    const T eps = lane::max(scale * T(1e-4f), (scale + reach) * T(float(shadow_offset(P))));
-    r.o = p + n * eps;
-    r.d = l;
-    r.tmin = T(0);
-    r.tmax = dist;
-    r.valid = valid;
-    r.invalid = Mask<T>(false);
-    finish_ray(r, fdot(l, l));
-}
-
 // The lanes of `lit` whose shadow ray (shadow_ray's arguments) something
 // blocks; the ray is built in place for any_hit, which narrows it.
 template <class T, Precision P>
@@ -83,12 +66,7 @@ inline void accumulate(Vec3<T>& e, const Mask<T>& lit, const T& weight, const Ve
          lane::max(lane::fma(radiance.z, w, e.z), e.z)};
 }
 
-// Ambient occlusion's factor on the ambient term, per lane (occlusion.hpp).
-template <class T, Precision P, unsigned F>
-T occlusion_factor(const SceneData& s, const RayPacket8& rp, int lane, const Mask<T>& hit, const Vec3<T>& p,
-                   const Vec3<T>& n, const T& reach);
-
-template <class T, Precision P, unsigned F>
+template <class T, Precision P, unsigned F, OcclusionLayout L = kOcclusionLayout>
 inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out, int lane) {
     const Mask<T> hit = load_mask<T>(hp.hit, lane) && load_mask<T>(rp.active, lane);
     const Vec3<T> o{load<T>(rp.ox, lane), load<T>(rp.oy, lane), load<T>(rp.oz, lane)};
@@ -169,7 +147,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
         Vec3<T> ambient = material(s.ambient_r, s.ambient_g, s.ambient_b);
         // The general kernel (F = kAllFeatures) runs a scene without occlusion too: samples 0, no factor.
         if constexpr ((F & kOcclusion) != 0)
-            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F>(s, rp, lane, hit, p, n, reach);
+            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F, L>(s, rp, lane, hit, p, n, reach);
         c += ambient;
     }
     store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));
@@ -177,10 +155,10 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     store(out.b, lane, lane::select(hit, c.z, T(s.background[2])));
 }
 
-template <class T, Precision P, unsigned F>
+template <class T, Precision P, unsigned F, OcclusionLayout L = kOcclusionLayout>
 void shade_packet(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
     const SceneData& s = scene.data();
-    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) shade_lanes<T, P, F>(s, rp, hp, out, lane);
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) shade_lanes<T, P, F, L>(s, rp, hp, out, lane);
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA

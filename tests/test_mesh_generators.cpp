@@ -1,4 +1,4 @@
-// tests/test_mesh_generators.cpp — tools/mesh_generators (uv_sphere,
+// tests/test_mesh_generators.cpp — io/mesh_generators (uv_sphere,
 // height_field) and save_ply, whose binary PLY the model loader reads back.
 #include "mesh_generators.hpp"
 #include "model_fixtures.hpp"

@@ -4,6 +4,8 @@
 #include "model_fixtures.hpp"
 #include "model_loader.hpp"
 
+#include <octray/constants.hpp>
+
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -48,7 +50,7 @@ TEST_CASE("MeshTransform: translate, rotate and scale of a unit cube give the an
     }
     SUBCASE("scale 0.75, (10, 20, 30) degrees: x first, then y, then z") {
         // Each corner turned one axis at a time, written out here without matrices.
-        const double s = 0.75, d = M_PI / 180;
+        const double s = 0.75, d = kPi / 180;
         const Vec3d t{0.25, -3, 7};
         Bounds want;
         for (int c = 0; c < 8; ++c) {

@@ -1,4 +1,4 @@
-// tests/test_model_files.cpp — tools/model_loader on files the tests write into a
+// tests/test_model_files.cpp — io/model_loader on files the tests write into a
 // temporary folder: missing, unknown, broken, truncated and corrupted files are
 // ModelErrors, not crashes; degenerate triangles are dropped and counted; shared
 // vertices are merged by exact position; the triangle and file-size limits hold.

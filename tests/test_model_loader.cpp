@@ -1,4 +1,4 @@
-// tests/test_model_loader.cpp — tools/model_loader on real models: one of each
+// tests/test_model_loader.cpp — io/model_loader on real models: one of each
 // format, glTF node transforms, every glTF, OBJ and PLY file of assimp-testmodels,
 // and its broken files. Counts are checked against what assimp itself reports
 // through a different path (its PreTransformVertices step, float), or against
@@ -6,6 +6,8 @@
 // test_model_files.cpp.
 #include "model_fixtures.hpp"
 #include "model_loader.hpp"
+
+#include <octray/constants.hpp>
 
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>

@@ -10,6 +10,7 @@
 
 #include <octray/kernels.hpp>
 #include <octray/packet_scene.hpp>
+#include <octray/render.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -127,7 +127,7 @@ def scale_main(a):
         json.dump(summary, f, indent=2)
 
     md = ["# The cost curve against Embree (octray_bench_scale)\n\n",
-          f"`tools/bench-report --scale --out {a.out}` at {rev} (medians: {reps} repetitions, the 1M scenes "
+          f"`scripts/bench-report --scale --out {a.out}` at {rev} (medians: {reps} repetitions, the 1M scenes "
           f"{a.big_repetitions}; one thread, pinned; CPU time per pass), Embree {context.get('embree_version', '?')}. "
           "Mrays/s; *ratio* = octray SIMD over the fastest Embree variant of the row (`embree8*`: rtcIntersect8/"
           "rtcOccluded8, `embree1*`: rtcIntersect1/rtcOccluded1; spheres: the faster of native and user); "

@@ -1,4 +1,4 @@
-// tools/scene_loader.hpp — scene JSON (docs/scene-format.md) -> octray::Scene.
+// io/scene_loader.hpp — scene JSON (docs/scene-format.md) -> octray::Scene.
 //
 // The loader checks the JSON's shape itself: types, required fields, unknown
 // fields (a typo must not be silently ignored), type and material names. Value

@@ -14,7 +14,7 @@ from bench_report.tables import err, fnum, table
 def write_bench_md(a, build, pin, rev, context, rows, peak, summary, rep, raw, crosscheck_text, t_start):
     """Writes DIR/bench.md from the rows of this run (or of DIR/raw/*.json with --reuse)."""
     md = ["# octray benchmarks\n\n"]
-    cmd = f"OCTRAY_BUILD_DIR={build} tools/bench-report --out {a.out} --repetitions {a.repetitions} --min-time {a.min_time}"
+    cmd = f"OCTRAY_BUILD_DIR={build} scripts/bench-report --out {a.out} --repetitions {a.repetitions} --min-time {a.min_time}"
     if a.filter:
         cmd += f" --filter '{a.filter}'"
     md.append(f"Produced by `{cmd}` on {datetime.datetime.now().strftime('%Y-%m-%d %H:%M')}"

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Writes the sphere-field scenes (many small, distant spheres: the sphere-frame hit's test).
 
-    python3 tools/make_sphere_fields.py                 # scenes/sphere_field.json, scenes/sphere_field_far.json
-    python3 tools/make_sphere_fields.py --report DIR    # also the first report's scenes, into DIR
+    python3 scripts/make_sphere_fields.py                 # scenes/sphere_field.json, scenes/sphere_field_far.json
+    python3 scripts/make_sphere_fields.py --report DIR    # also the first report's scenes, into DIR
 
 The committed scenes put 20,000 spheres in front of an orthographic camera:
 radius 0.04 over a 10 x 2 grid 10-15 units away (sphere_field.json), and

@@ -6,8 +6,9 @@ import subprocess
 import sys
 import time
 
-# The folder of the bench-report script: plot.py is there, and git runs there.
-TOOLS_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# The repository's tools/ folder (plot.py is there; git runs there): beside
+# scripts/, the folder of the bench-report script.
+TOOLS_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "tools")
 
 
 def run(cmd, out_path):
