@@ -47,6 +47,7 @@
 #endif
 
 #include <octray/kernels.hpp>
+#include <octray/render.hpp>
 
 #include <array>
 #include <cmath>
@@ -138,13 +139,13 @@ void bm_render_grid(benchmark::State& st, Path path) {
 
 // ---- the shade stage, per layout --------------------------------------------------------
 constexpr unsigned kAoLights = kAmbient | kOcclusion;
-template <class T, unsigned F>
+template <class T, unsigned F, OcclusionLayout L = kOcclusionLayout>
 void bm_shade(benchmark::State& st, const char* what) {
     Setup& s = setup(0);
     ColorPacket8 out;
     for (auto _ : st) {
         for (std::size_t k = 0; k < s.hits.size(); ++k) {
-            shade_packet<T, P, F>(s.ps, s.camera.packets[k], s.hits[k], out);
+            shade_packet<T, P, F, L>(s.ps, s.camera.packets[k], s.hits[k], out);
             benchmark::DoNotOptimize(out);
         }
     }
@@ -399,7 +400,7 @@ void register_all() {
     benchmark::RegisterBenchmark("ao/shade/pixels/simd",
                                  [](benchmark::State& st) { bm_shade<T8, kAoLights>(st, "avx2, 8 pixels' k-th samples a packet"); });
     benchmark::RegisterBenchmark("ao/shade/samples/simd", [](benchmark::State& st) {
-        bm_shade<T8, kAoLights | kOcclusionBySample>(st, "avx2, one pixel's 8 samples a packet");
+        bm_shade<T8, kAoLights, OcclusionLayout::samples>(st, "avx2, one pixel's 8 samples a packet");
     });
     benchmark::RegisterBenchmark("ao/shade/pixels/scalar", [](benchmark::State& st) { bm_shade<float, kAoLights>(st, "avx2, one lane"); });
     benchmark::RegisterBenchmark("ao/occluded/octray_simd", [](benchmark::State& st) { bm_octray_occluded(st, Path::simd); });

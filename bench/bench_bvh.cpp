@@ -16,6 +16,8 @@
 #include "bvh.hpp"
 #include "bvh_traverse.hpp"
 
+#include <octray/constants.hpp>
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -56,7 +58,7 @@ bvh::BuildInput random_boxes(std::size_t n) {
 bvh::BuildInput sphere_triangles(int rings) {
     const int segments = 2 * rings;
     auto vertex = [&](int ring, int seg, float v[3]) {
-        const double theta = M_PI * ring / rings, phi = 2 * M_PI * seg / segments;
+        const double theta = kPi * ring / rings, phi = 2 * kPi * seg / segments;
         v[0] = float(std::sin(theta) * std::cos(phi));
         v[1] = float(std::cos(theta));
         v[2] = float(std::sin(theta) * std::sin(phi));
@@ -158,7 +160,7 @@ const Rays& rays(bool coherent) {
     const int size = 256;
     if (coherent) {
         const float eye[3] = {0.0f, 0.3f, 3.0f};
-        const float t = std::tan(20.0f * float(M_PI) / 180.0f);
+        const float t = std::tan(20.0f * float(kPi) / 180.0f);
         for (int ty = 0; ty < size; ty += 2)
             for (int tx = 0; tx < size; tx += 4)
                 for (int k = 0; k < 8; ++k) {

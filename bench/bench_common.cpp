@@ -101,7 +101,8 @@ double intersect_flops_per_ray(const PacketScene& scene) {
 }
 
 // ---- shade (shade_lanes) ------------------------------------------------------
-// Counted from shade_lanes, shadowed, shadow_ray and finish_ray as of 1483718.
+// Counted by hand from shade_lanes, shadowed, shadow_ray and finish_ray, before
+// the sphere-frame hit point and ambient occlusion (neither is counted).
 // p = fma(d, t, o) x3                                                   =  6
 // directional light: ndl = fdot(n, l) 5; accumulate 3 fma 6              = 11
 // point light: v = pos - p 3; r2 = fdot 5; rsqrt 2; fdot(n,v) * inv_r 6;

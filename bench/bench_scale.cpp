@@ -1,4 +1,4 @@
-// bench/bench_scale.cpp — the cost curve against Embree 3 (issue 18): octray's
+// bench/bench_scale.cpp — the cost curve against Embree 3 (docs/performance.md): octray's
 // SIMD and scalar paths and Embree's rtcIntersect8/rtcOccluded8 and
 // rtcIntersect1/rtcOccluded1 on the same geometry and exactly the same rays,
 // from 16 to a million primitives. Scenes and rays: scale_common.hpp.
@@ -24,7 +24,6 @@
 // builds octray's BVH on one thread too). Each scene, its rays and Embree's
 // scenes are made once, on the first benchmark that needs them.
 #include "bench_common.hpp"
-#include "compile_options.hpp"
 #include "scale_common.hpp"
 
 #include <chrono>
@@ -117,7 +116,7 @@ void bm_build(benchmark::State& st, SceneCase c, int which) {
     for (auto _ : st) {
         if (which == 0) {
             const auto t0 = clock::now();
-            PacketScene s = compile(w.authored);
+            PacketScene s = compile(w.authored, compile_options());
             st.SetIterationTime(std::chrono::duration<double>(clock::now() - t0).count());
             bytes = double(octray_bytes(s));
         } else {
@@ -169,18 +168,16 @@ void register_all() {
 }  // namespace
 }  // namespace octray::bench
 
-// OCTRAY_SCALE_LEAF, OCTRAY_SCALE_ICOST, OCTRAY_SCALE_TCOST: compile()'s BVH
-// max_leaf_size, intersection_cost and traversal_cost for this run (the
-// sweep of docs/performance.md); unset: the library's own. (The walk's
-// single_ray_lanes and octant split were swept the same way at 8de7b09.)
+// OCTRAY_SCALE_LEAF, OCTRAY_SCALE_ICOST, OCTRAY_SCALE_TCOST, OCTRAY_SCALE_BLOCK:
+// compile()'s BVH max_leaf_size, intersection_cost, traversal_cost and leaf_block for this run (the
+// sweep of docs/performance.md; scale_common.hpp, compile_options); unset: the
+// library's own. (The walk's single_ray_lanes and octant split were swept the
+// same way while the walk was tuned: docs/performance.md, tuning the traversal.)
 int main(int argc, char** argv) {
-    octray::bvh::BuildOptions& o = octray::compile_bvh_options();
-    if (const char* v = std::getenv("OCTRAY_SCALE_LEAF")) o.max_leaf_size = std::atoi(v);
-    if (const char* v = std::getenv("OCTRAY_SCALE_ICOST")) o.intersection_cost = float(std::atof(v));
-    if (const char* v = std::getenv("OCTRAY_SCALE_TCOST")) o.traversal_cost = float(std::atof(v));
-    if (const char* v = std::getenv("OCTRAY_SCALE_BLOCK")) o.leaf_block = std::atoi(v);
+    const octray::CompileOptions o = octray::scale::compile_options();
     benchmark::AddCustomContext("bvh_options", "leaf " + std::to_string(o.max_leaf_size) + ", intersection cost " +
                                                    std::to_string(o.intersection_cost) + ", traversal cost " +
-                                                   std::to_string(o.traversal_cost));
+                                                   std::to_string(o.traversal_cost) + ", leaf block " +
+                                                   std::to_string(o.leaf_block));
     return octray::bench::run_main(argc, argv, octray::bench::register_all);
 }

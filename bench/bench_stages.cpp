@@ -30,6 +30,8 @@
 
 #include <scene_loader.hpp>
 
+#include <octray/render.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -46,6 +48,7 @@ constexpr Path kPaths[] = {Path::scalar, Path::simd};
 
 // ---- fixtures (built on first use, outside the timed loop, then cached) -------
 struct Fixture {
+    Scene authored;                    // what `scene` was compiled from
     PacketScene scene;
     RaySet rays;
     AlignedVec<HitPacket8> hits;       // SIMD path's hits (bit-identical to scalar's)
@@ -69,6 +72,7 @@ const Fixture& cached(const std::string& key, const std::function<void(Fixture&)
 }
 
 void prepare(Fixture& f, const Scene& scene) {
+    f.authored = scene;
     f.scene = compile(scene);
     f.rays = camera_rays(f.scene);
     f.hits = trace(select_kernel(f.scene, Path::simd), f.scene, f.rays);
@@ -76,8 +80,8 @@ void prepare(Fixture& f, const Scene& scene) {
 
 const Fixture& default_fixture() {
     return cached("default", [](Fixture& f) {
-        const Scene s = load_scene(default_scene_path());
-        f.scene = compile(s);
+        f.authored = load_scene(default_scene_path());
+        f.scene = compile(f.authored);
     });
 }
 
@@ -117,12 +121,13 @@ void bm_intersect(benchmark::State& st, Layout layout, int n, Path path) {
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }
 
-// Intersect with culling switched off (every BVH node's boxes made infinite,
-// so every packet tests every primitive): the kernel's raw test throughput.
+// Intersect with culling switched off (CompileOptions::Acceleration::none:
+// every packet tests every primitive): the kernel's raw test throughput.
 void time_unculled(benchmark::State& st, const Fixture& f, Path path, Isa isa = Isa::best) {
     if (!check(st, f)) return;
-    PacketScene all = f.scene;
-    disable_culling(all);
+    CompileOptions flat;
+    flat.acceleration = CompileOptions::Acceleration::none;
+    const PacketScene all = compile(f.authored, flat);
     time_intersect(st, select_kernel(all, path, Precision::exact, isa), all, f.rays);
     st.counters["hit_frac"] = hit_fraction(f.rays, f.hits);
 }
@@ -213,9 +218,10 @@ void bm_tonemap(benchmark::State& st, ToneMap mode, float gamma, Path path) {
         }
     });
     if (!check(st, f)) return;
-    PacketScene scene = f.scene;  // same data; only the tone-map settings differ
-    mutable_data(scene).tonemap = mode;
-    mutable_data(scene).inv_gamma = 1.0f / gamma;
+    Scene authored = f.authored;  // the same scene; only the tone-map settings differ
+    authored.render.tonemap = mode;
+    authored.render.gamma = gamma;
+    const PacketScene scene = compile(authored);
     const Kernel k = select_kernel(scene, path);
     ColorPacket8 out;
     for (auto _ : st) {

@@ -1,4 +1,4 @@
-// bench/bench_variants.cpp — what leaving out absent features buys (issue 7).
+// bench/bench_variants.cpp — what leaving out absent features buys.
 //
 // For six feature subsets, intersect + shade on the same camera packets with:
 //   dispatched  select_kernel(): the variant specialized to the scene's features;

@@ -6,11 +6,14 @@
 #include "model_loader.hpp"
 #include "scene_data.hpp"
 
+#include <octray/constants.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -127,7 +130,7 @@ Rays incoherent_rays(const PacketScene& scene, const Rays& cam, float size) {
             const double t2[3] = {b, sgn + n[1] * n[1] * a, -n[1]};
             const std::uint64_t key = std::uint64_t(cam.pixel[p * 8 + std::size_t(i)]) * 2;
             const double u1 = uniform(key), u2 = uniform(key + 1);
-            const double rr = std::sqrt(u1), phi = 2 * M_PI * u2, z = std::sqrt(std::max(0.0, 1 - u1));
+            const double rr = std::sqrt(u1), phi = 2 * kPi * u2, z = std::sqrt(std::max(0.0, 1 - u1));
             const double lx = rr * std::cos(phi), ly = rr * std::sin(phi);
             const double off = 1e-4 * size;
             out.ox[fill] = float(c.ox[i] + c.dx[i] * t + n[0] * off);
@@ -186,6 +189,15 @@ Scene make_scene(Family f, int n, int image) {
     return mesh_scene(load_model(model_path()), image, false);
 }
 
+CompileOptions compile_options() {
+    CompileOptions o;
+    if (const char* v = std::getenv("OCTRAY_SCALE_LEAF")) o.max_leaf_size = std::atoi(v);
+    if (const char* v = std::getenv("OCTRAY_SCALE_ICOST")) o.intersection_cost = float(std::atof(v));
+    if (const char* v = std::getenv("OCTRAY_SCALE_TCOST")) o.traversal_cost = float(std::atof(v));
+    if (const char* v = std::getenv("OCTRAY_SCALE_BLOCK")) o.leaf_block = std::atoi(v);
+    return o;
+}
+
 World& world(Family f, int n, int image) {
     static std::map<std::tuple<int, int, int>, std::unique_ptr<World>> cache;
     auto& slot = cache[{int(f), n, image}];
@@ -194,7 +206,7 @@ World& world(Family f, int n, int image) {
     World& w = *slot;
     w.family = f;
     w.authored = make_scene(f, n, image);
-    w.scene = compile(w.authored);
+    w.scene = compile(w.authored, compile_options());
     w.primitives = w.scene.primitive_count();
     w.name = std::string(family_name(f)) + ":" + std::to_string(f == Family::model ? w.primitives : n);
     const bvh::Box& b = w.scene.data().bvh.bounds;

@@ -1,11 +1,11 @@
 // bench/scale_common.hpp — the scenes, rays and Embree scenes of the cost
-// curve (issue 18): bench_scale.cpp times them, tests/test_scale_agreement.cpp
+// curve (docs/performance.md): bench_scale.cpp times them, tests/test_scale_agreement.cpp
 // checks that octray and Embree give the same answers on them.
 //
 // Families (every one without a floor plane: Embree has no infinite plane):
 //   spheres      N random spheres in the cube [-4, 4]^3, radius
 //                4 N^(-1/3) U(0.5, 1) (about constant coverage), seed 7
-//   heightfield  tools/mesh_generators height_field(n), 2 n^2 triangles,
+//   heightfield  io/mesh_generators height_field(n), 2 n^2 triangles,
 //                scaled by 4 ([-4, 4]^2 in x-z, heights within +-1)
 //   model        the largest assimp test model octray loads (a mesh)
 // Camera: pinhole, fov 45, image x image pixels, the scene in view.
@@ -77,6 +77,12 @@ struct World {
     World(World&&) noexcept;
     ~World();
 };
+
+// compile()'s options for every world: the library's defaults, or for a
+// sweep (docs/performance.md) OCTRAY_SCALE_LEAF, OCTRAY_SCALE_ICOST,
+// OCTRAY_SCALE_TCOST and OCTRAY_SCALE_BLOCK: max_leaf_size, intersection_cost,
+// traversal_cost, leaf_block.
+CompileOptions compile_options();
 
 // Everything above, made once per (family, n) and kept.
 World& world(Family f, int n, int image);

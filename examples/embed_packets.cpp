@@ -3,7 +3,7 @@
 // No JSON and no command line: the engine builds an octray::Scene in code,
 // compiles it once, fills RayPacket8 lanes itself and calls intersect ->
 // shade -> tonemap on both paths (simd, scalar) in every precision mode. Each
-// result is checked against values worked out by hand from the seed's eq. 7-8
+// result is checked against values worked out by hand from docs/shading-model.md
 // (docs/API.md quotes this file). Exits non-zero on any mismatch; CTest runs it.
 #include <octray/octray.hpp>
 
@@ -59,7 +59,7 @@ void set_ray(octray::RayPacket8& rays, int i, octray::Vec3f o, octray::Vec3f d, 
 }
 // <<< docs/API.md quotes up to here: set_ray
 
-// Seed eq. 8 for the clay material: ka cd * (ls cl)_ambient + kd cd / pi * E,
+// The shading equation (docs/shading-model.md) for the clay material: ka cd * (ls cl)_ambient + kd cd / pi * E,
 // where E = sum over lights of ls * max(0, n.l) [/ r^2] (all light colours white).
 octray::Vec3d eq8(double e) {
     const octray::Vec3d cd{1.0, 0.5, 0.25};

@@ -1,4 +1,4 @@
-// fuzz/kernels_fuzz.cpp — the packet kernels on raw bytes (issue 19): a scene
+// fuzz/kernels_fuzz.cpp — the packet kernels on raw bytes (docs/reliability.md): a scene
 // whose parameters come from the input (kept only when validate() passes)
 // and ray packets that are the input's bytes, through intersect, occluded,
 // shade and tonemap of every kernel this CPU runs (every ISA unit, every

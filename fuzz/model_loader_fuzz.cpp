@@ -1,4 +1,4 @@
-// fuzz/model_loader_fuzz.cpp — the model loader (tools/model_loader.hpp) on any bytes.
+// fuzz/model_loader_fuzz.cpp — the model loader (io/model_loader.hpp) on any bytes.
 //
 // The input is one model file. Its format comes from its first bytes, as a model's own
 // magic would say: "glTF" -> .glb, "ply" -> .ply, '{' -> .gltf, anything else -> .obj;

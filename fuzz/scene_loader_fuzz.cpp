@@ -1,6 +1,6 @@
-// fuzz/scene_loader_fuzz.cpp — the scene JSON loader on any bytes (issue 19).
+// fuzz/scene_loader_fuzz.cpp — the scene JSON loader on any bytes (docs/reliability.md).
 //
-// The loader's promise (tools/scene_loader.hpp): any text gets a Scene or a
+// The loader's promise (io/scene_loader.hpp): any text gets a Scene or a
 // SceneError whose what() is one line starting with the file name. Anything
 // else is a bug: another exception type, a crash, a sanitizer report, a
 // multi-line message. A Scene it accepts must also pass validate() and

@@ -150,9 +150,9 @@ struct BuildInput {
 // Defaults measured with bench/bench_bvh.cpp (closest hit on a tessellated
 // sphere's 262k triangle boxes, 8-float packets and single rays): over
 // max_leaf_size 1/2/4/8 x traversal_cost 1/2/4, larger leaves and costlier
-// nodes were faster and smaller (leaf 8, cost 4: 25 bytes a primitive);
+// nodes were faster and smaller (docs/performance.md has the sweep);
 // cost 2 is kept because the benchmark's leaf test (a slab test a box) is
-// cheaper than the kernels' primitive tests, by about 2x.
+// much cheaper than the kernels' primitive tests.
 struct BuildOptions {
     // At most this many primitives a leaf (1..255). A larger node is always
     // split; a smaller one becomes a leaf where SAH prefers it.

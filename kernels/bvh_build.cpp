@@ -26,6 +26,8 @@
 // throws: every array is made before it.
 #include "bvh.hpp"
 
+#include <octray/threads.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <atomic>
@@ -496,7 +498,7 @@ Bvh8 build_bvh8(const BuildInput& in, const BuildOptions& opt) {
     Bounds root;
     const Box* boxes = in.boxes.data();
 #ifdef _OPENMP
-    const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+    const int threads = resolve_threads(opt.threads);
 #endif
 #pragma omp parallel num_threads(threads) default(none) shared(ctx, root, boxes, n)
     {

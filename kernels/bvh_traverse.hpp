@@ -126,7 +126,7 @@ struct WalkOptions {
     // two each, which then walk as single rays from the root). Off: on the
     // kernels' own primitive tests the whole packet walking together until
     // it diverges was faster at every size of the cost curve, incoherent
-    // rays 1.1-4.7x (docs/performance.md, issue 18).
+    // rays most of all (docs/performance.md, the cost curve).
     bool split_octants = false;
     // A packet's leaf reached by at most this many lanes (float lanes, with
     // a leaf function that takes LaneOf) is tested lane by lane, each ray

@@ -1,12 +1,12 @@
 // kernels/camera.hpp — a row's camera rays, 8 pixels a packet, pinhole or
-// orthographic (DESIGN.md, camera convention).
+// orthographic (docs/scene-format.md, camera convention).
 #pragma once
 
 #include "packet_io.hpp"
 
 namespace octray::kernels::OCTRAY_ISA {
 
-// ---- camera rays (DESIGN.md convention) ------------------------------------
+// ---- camera rays (docs/scene-format.md convention) --------------------------
 template <class T, Precision P>
 inline void camera_lanes(const SceneData& s, int x0, int y, RayPacket8& rp, int lane) {
     const PacketCamera& c = s.camera;

@@ -21,27 +21,13 @@ inline constexpr unsigned kBaseModes =
 inline constexpr unsigned kAvx512Modes = mode_bit(Precision::fast14) | mode_bit(Precision::approx14);
 inline constexpr unsigned kAvx512UnitModes = kBaseModes | kAvx512Modes;
 
-// The precision building blocks as the kernels compute them (same lane type,
-// same lane functions, same ISA flags), over float arrays whose length is a
-// multiple of kPacketWidth. For tests; nullptr members where a unit does not
-// compile the mode.
-struct Blocks {
-    void (*rcp)(const float* x, float* out, int n) noexcept = nullptr;
-    void (*rsqrt)(const float* x, float* out, int n) noexcept = nullptr;
-    void (*div)(const float* a, const float* b, float* out, int n) noexcept = nullptr;
-    void (*normalize)(const float* const v[3], float* const out[3], int n) noexcept = nullptr;  // v * rsqrt(v.v)
-    void (*ndotl)(const float* const n[3], const float* const v[3], float* out, int count) noexcept = nullptr;  // (n.v) * rsqrt(v.v)
-    void (*pow)(const float* x, const float* y, float* out, int n) noexcept = nullptr;  // x^y, x > 0: the tone map's gamma
-};
-
 // Each unit (one per line of octray_isa_unit in CMakeLists.txt, listed in
 // the generated isa_units.inc as OCTRAY_UNIT(name, path, isa, cpu_check,
-// modes)) provides name_kernel and name_blocks. `primitive_bits` /
+// modes)) provides name_kernel. `primitive_bits` /
 // `light_bits` are FeatureBit sets; pass kAllFeatures for the general kernel.
 // A mode the unit does not compile gives an empty Kernel.
 #define OCTRAY_UNIT(name, path, isa, cpu_check, modes)                                  \
-    Kernel name##_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits); \
-    Blocks name##_blocks(Precision precision);
+    Kernel name##_kernel(Precision precision, unsigned primitive_bits, unsigned light_bits);
 #include "isa_units.inc"
 #undef OCTRAY_UNIT
 
@@ -52,7 +38,6 @@ struct Unit {
     const char* isa;
     bool (*supported)();  // this CPU runs the unit's code
     Kernel (*kernel)(Precision precision, unsigned primitive_bits, unsigned light_bits);
-    Blocks (*blocks)(Precision precision);
     unsigned modes;  // mode_bit set the unit compiles
 };
 // Every unit built into the library; within a path the preferred one first.

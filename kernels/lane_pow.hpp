@@ -1,6 +1,6 @@
 // kernels/lane_pow.hpp — x^y for positive float lanes, one code for every T.
 //
-// The tone map's gamma step (DESIGN.md: c^(1/gamma)) on float lanes. libm's
+// The tone map's gamma step (docs/shading-model.md: c^(1/gamma)) on float lanes. libm's
 // powf (the scalar path) and xsimd 8.1's pow (the SIMD path) are different
 // algorithms, and xsimd's is slow (about a hundred cycles a batch): the same exp2/log2
 // reduction here serves both paths, so they agree bit for bit and the

@@ -1,4 +1,4 @@
-// kernels/occlusion.hpp — ambient occlusion (DESIGN.md, "Ambient occlusion";
+// kernels/occlusion.hpp — ambient occlusion (docs/shading-model.md, "Ambient occlusion";
 // Suffern, "Ray Tracing from the Ground Up", ch. 17, the ambient occluder):
 // the ambient term of shade.hpp times max(min_amount, the fraction of
 // `samples` rays over the hemisphere about the facing normal that nothing
@@ -23,7 +23,7 @@
 #pragma once
 
 #include "sampling.hpp"
-#include "shade.hpp"
+#include "shadow_ray.hpp"
 
 #include <array>
 #include <cmath>
@@ -36,7 +36,7 @@ enum class OcclusionLayout {
     samples,  // samples k .. k+7 of one pixel: ceil(N / 8) packets per pixel hit
 };
 // The kernels' choice: `pixels`, the faster of the two on scenes/aobench.json
-// (bench/bench_aobench.cpp, ao/shade/*; the README gives the figures).
+// (bench/bench_aobench.cpp, ao/shade/*; docs/performance.md gives the figures).
 inline constexpr OcclusionLayout kOcclusionLayout = OcclusionLayout::pixels;
 
 // The primitive types sample rays test: the variant's own when F names some
@@ -258,20 +258,16 @@ inline T blocked_count(const SceneData& s, OcclusionSamples<T, P>& samples) {
     }
 }
 
-// Not a scene feature: a kernel variant whose F has this bit groups its
-// sample rays by pixel (layout `samples`); bench/bench_aobench.cpp times it.
-inline constexpr unsigned kOcclusionBySample = 1u << 31;
-
 // max(min_amount, visible fraction) on the lanes of `hit` (1 elsewhere, and
 // on every lane of a scene without occlusion); p and n are the hits' points
-// and facing normals, reach the camera rays' extent (shadow_ray).
-template <class T, Precision P, unsigned F>
+// and facing normals, reach the camera rays' extent (shadow_ray). L: the
+// sample rays' layout (the library's kernels use kOcclusionLayout).
+template <class T, Precision P, unsigned F, OcclusionLayout L = kOcclusionLayout>
 T occlusion_factor(const SceneData& s, const RayPacket8& rp, int lane, const Mask<T>& hit, const Vec3<T>& p,
                    const Vec3<T>& n, const T& reach) {
     const OcclusionData& ao = s.occlusion;
     if (ao.samples == 0 || !lane::any(hit)) return T(1);
     constexpr unsigned Occluders = occluders(F);
-    constexpr OcclusionLayout L = (F & kOcclusionBySample) != 0 ? OcclusionLayout::samples : kOcclusionLayout;
     OcclusionSamples<T, P> samples(s, load_keys<T>(rp.pixel, lane), hit, p, n, reach);
     const T blocked = blocked_count<T, P, Occluders, L>(s, samples);
     // (N - k) / N correctly rounded, as float(the reference's double).

@@ -9,9 +9,10 @@
 //   packet_io.hpp   lanes <-> packets, per-lane reads of the scene arrays
 //   ray.hpp         loading and masking rays, per-ray setup
 //   sphere.hpp, planar.hpp, box.hpp, triangle.hpp   the primitive tests
-//   culling.hpp     the bounding-sphere trees' walk
+//   culling.hpp     which bounded primitives a packet may hit: the BVH8 walk (bvh_traverse.hpp)
 //   intersect.hpp   closest hit, normals, any hit (shadow rays)
 //   shade.hpp       Lambertian shading
+//   shadow_ray.hpp  the offset ray from a shaded point (shadow and occlusion rays)
 //   sampling.hpp, occlusion.hpp   ambient occlusion: the sample generator, the visible fraction
 //   tonemap.hpp     tone mapping and gamma
 //   camera.hpp      camera rays

@@ -1,5 +1,4 @@
 // kernels/packet_scene.cpp — Scene (AoS, double) -> PacketScene (SoA, float).
-#include "compile_options.hpp"
 #include "scene_data.hpp"
 #include <octray/packet.hpp>
 #include <octray/reference.hpp>
@@ -125,12 +124,28 @@ void append_primitive(SceneData& s, const Shape& shape) {
         shape);
 }
 
-}  // namespace
-
-bvh::BuildOptions& compile_bvh_options() {
-    static bvh::BuildOptions options;
-    return options;
+bvh::BuildOptions build_options(const CompileOptions& o) {
+    bvh::BuildOptions b;
+    b.max_leaf_size = o.max_leaf_size;
+    b.bins = o.bins;
+    b.traversal_cost = o.traversal_cost;
+    b.intersection_cost = o.intersection_cost;
+    b.leaf_block = o.leaf_block;
+    b.threads = o.threads;
+    return b;
 }
+
+// Acceleration::none: every node's children made infinite boxes, so a walk
+// enters every node and tests every bounded primitive.
+void open_every_node(bvh::Bvh8& tree) {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    for (bvh::Node8& node : tree.nodes)
+        for (int c = 0; c < bvh::kWidth; ++c)
+            if (node.child[c] != bvh::kEmptySlot)
+                node.lo_x[c] = node.lo_y[c] = node.lo_z[c] = -inf, node.hi_x[c] = node.hi_y[c] = node.hi_z[c] = inf;
+}
+
+}  // namespace
 
 PacketScene::PacketScene() : data_(std::make_shared<SceneData>()) {}
 
@@ -144,21 +159,7 @@ int PacketScene::primitive_count() const noexcept {
 int PacketScene::width() const noexcept { return data_->camera.width; }
 int PacketScene::height() const noexcept { return data_->camera.height; }
 
-SceneData& mutable_data(PacketScene& scene) {
-    // Copy on write: the copies of a PacketScene share its data.
-    if (scene.data_.use_count() != 1) scene.data_ = std::make_shared<SceneData>(*scene.data_);
-    return *scene.data_;
-}
-
-void disable_culling(PacketScene& scene) {
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    for (bvh::Node8& node : mutable_data(scene).bvh.nodes)
-        for (int c = 0; c < bvh::kWidth; ++c)
-            if (node.child[c] != bvh::kEmptySlot)
-                node.lo_x[c] = node.lo_y[c] = node.lo_z[c] = -inf, node.hi_x[c] = node.hi_y[c] = node.hi_z[c] = inf;
-}
-
-PacketScene compile(const Scene& scene) {
+PacketScene compile(const Scene& scene, const CompileOptions& options) {
     validate(scene);  // includes the limits on primitives and materials (scene.hpp)
 
     PacketScene compiled;
@@ -192,7 +193,8 @@ PacketScene compile(const Scene& scene) {
             input.kind.push_back(std::uint8_t(PrimitiveType::triangle));
         }
     }
-    s.bvh = bvh::build_bvh8(input, compile_bvh_options());
+    s.bvh = bvh::build_bvh8(input, build_options(options));
+    if (options.acceleration == CompileOptions::Acceleration::none) open_every_node(s.bvh);
 
     const std::size_t total = id;
     s.object_of.resize(total);

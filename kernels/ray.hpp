@@ -1,5 +1,5 @@
 // kernels/ray.hpp — a packet's rays as lanes: loading and masking off what no
-// kernel can trace (DESIGN.md, numerical policy), the per-ray quantities the
+// kernel can trace (docs/shading-model.md, invalid input), the per-ray quantities the
 // primitive tests share, and the box and triangle tests' lazy setup.
 #pragma once
 

@@ -1,7 +1,7 @@
 // kernels/reference.cpp — the scalar double reference renderer (the oracle).
 //
-// Shaped like the seed (../shared/seed/lights-and-materials.md): one camera ray
-// per pixel, the nearest hit over all objects, then Matte::shade (eq. 7-8).
+// Shaped like the equations of docs/shading-model.md: one camera ray per
+// pixel, the nearest hit over all objects, then Matte::shade.
 // Every choice here is the simplest correct one; speed is not a goal.
 #include <octray/reference.hpp>
 
@@ -209,7 +209,7 @@ bool occluded(const Scene& scene, const Ray& ray, double tmax) {
     return for_each_primitive(scene, [&](int, const Shape& shape) { return intersect(shape, ray, 0.0, tmax).has_value(); });
 }
 
-// Lambertian term of one light, seed eq. 8: (kd cd / pi) * (ls cl) * (n.l).
+// Lambertian term of one light: (kd cd / pi) * (ls cl) * (n.l).
 Vec3d lambert(const Material& m, const Vec3d& light_color, double ls, double n_dot_l) {
     return hadamard(lambertian_brdf(m), light_color * ls) * n_dot_l;
 }
@@ -265,7 +265,7 @@ Vec3d geometric_normal(const Shape& shape, const Vec3d& p) {
 }
 
 // A ray with a non-finite or zero-length direction, or a non-finite origin,
-// is degenerate input and misses (DESIGN.md numerical policy: background).
+// is degenerate input and misses (docs/shading-model.md, invalid input: background).
 Hit trace(const Scene& scene, const Ray& ray, double tmin, double tmax) {
     Hit hit;
     if (!finite(ray.origin) || !finite(ray.direction) || length_squared(ray.direction) == 0.0) return hit;
@@ -326,8 +326,8 @@ bool shadowed(const Scene& scene, const Hit& hit, const PointLight& light) {
     return occluded(scene, {o, normalize(from_origin)}, length(from_origin));
 }
 
-// Matte::shade, seed eq. 7 (ambient) + eq. 8 (sum over lights with n.l > 0);
-// point lights per eq. 6, with 1/r^2 only under inverse_square. A light with
+// Matte::shade (docs/shading-model.md): ambient + the sum over lights with
+// n.l > 0; point lights with 1/r^2 only under inverse_square. A light with
 // shadows on is skipped when a shadow ray from p meets any object before it.
 Vec3d shade(const Scene& scene, const Ray& /*ray*/, const Hit& hit, std::uint32_t pixel) {
     if (hit.object < 0) return scene.background;
@@ -377,7 +377,7 @@ double occlusion_factor(const Scene& scene, const Hit& hit, std::uint32_t pixel)
     return std::max(ao.min_amount, double(visible) / double(ao.samples));
 }
 
-// Tone mapping per DESIGN.md, then gamma. Non-finite radiance still lands in
+// Tone mapping per docs/shading-model.md, then gamma. Non-finite radiance still lands in
 // gamut, by this rule: NaN counts as 0; under max_to_one, if any component is
 // +inf the result is the limit of c / max(c) as it grows — inf components
 // become 1, finite ones 0; clamp_to_color treats +inf as > 1 and saturate

@@ -1,4 +1,4 @@
-// kernels/sampling.hpp — the ambient-occlusion sample generator (DESIGN.md,
+// kernels/sampling.hpp — the ambient-occlusion sample generator (docs/shading-model.md,
 // "Ambient occlusion"): counter-based, keyed by (pixel, sample index), no
 // state. Every path (the reference in double, the scalar and SIMD kernels in
 // float) gets the same two integers for a key, so the same sample rays up to

@@ -80,7 +80,7 @@ struct SceneData {
 
     OcclusionData occlusion;
 
-    // Per material, premultiplied: ka*cd ⋆ ls*cl (seed eq. 7) and kd*cd/pi (eq. 8).
+    // Per material, premultiplied: ka*cd ⋆ ls*cl (ambient) and kd*cd/pi (Lambertian BRDF).
     Floats ambient_r, ambient_g, ambient_b, diffuse_r, diffuse_g, diffuse_b;
 
     float background[3]{};
@@ -89,13 +89,5 @@ struct SceneData {
     float clamp_color[3]{1, 0, 0};
     float inv_gamma = 1;
 };
-
-// Test and benchmark hook: a compiled scene's data, writable; `scene` gets
-// its own copy first, so the copies it was made from or shared with keep theirs.
-SceneData& mutable_data(PacketScene& scene);
-
-// Test and benchmark hook: every node's children made infinite boxes, so a
-// walk skips nothing and tests every bounded primitive.
-void disable_culling(PacketScene& scene);
 
 }  // namespace octray

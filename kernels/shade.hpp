@@ -1,13 +1,15 @@
-// kernels/shade.hpp — Lambertian shading (the seed's eq. 7-8: ambient plus
+// kernels/shade.hpp — Lambertian shading (docs/shading-model.md: ambient plus
 // the sum of each light's kd cd / pi * ls cl * max(0, n.l), point lights with
-// eq. 6's 1/r^2 where attenuated), with shadow rays where a light casts them.
+// 1/r^2 where attenuated), with shadow rays where a light casts them.
 #pragma once
 
 #include "intersect.hpp"
+#include "occlusion.hpp"
+#include "shadow_ray.hpp"
 
 namespace octray::kernels::OCTRAY_ISA {
 
-// ---- shading (seed eq. 7-8) ------------------------------------------------
+// ---- shading (docs/shading-model.md) ---------------------------------------
 // The point a hit is shaded at: p = o + t d carries t's error, a few u t
 // along d (`reach` = t max|d_i|). A sphere's hit is c + r n_geo instead
 // where the sphere is smaller than that distance (r < reach): its normal came
@@ -33,25 +35,6 @@ inline Mask<T> sphere_surface_point(const SceneData& s, const T& object, const M
     const Vec3<T> q = c + n * lane::with_sign_of(radius, side);
     p = {lane::select(sure, q.x, p.x), lane::select(sure, q.y, p.y), lane::select(sure, q.z, p.z)};
     return sure;
-}
-
-// Fills r with the shadow ray from p toward a light at distance `dist` along
-// unit `l`. The origin moves off the surface along the facing normal so the
-// surface does not shadow itself: by 1e-4 |p|, or by more than the hit point's error where the
-// precision mode's error over the camera ray's length `reach` (|p - o|, max
-// norm; 0 where p carries no t-sized error) is larger (precision.hpp, shadow_offset).
-template <class T, Precision P>
-inline void shadow_ray(Ray<T, P>& r, const Vec3<T>& p, const Vec3<T>& n, const Vec3<T>& l, const T& dist,
-                       const Mask<T>& valid, const T& reach) {
-    const T scale = lane::max(lane::max(lane::abs(p.x), lane::abs(p.y)), lane::max(lane::abs(p.z), T(1)));
-    const T eps = lane::max(scale * T(1e-4f), (scale + reach) * T(float(shadow_offset(P))));
-    r.o = p + n * eps;
-    r.d = l;
-    r.tmin = T(0);
-    r.tmax = dist;
-    r.valid = valid;
-    r.invalid = Mask<T>(false);
-    finish_ray(r, fdot(l, l));
 }
 
 // The lanes of `lit` whose shadow ray (shadow_ray's arguments) something
@@ -83,12 +66,7 @@ inline void accumulate(Vec3<T>& e, const Mask<T>& lit, const T& weight, const Ve
          lane::max(lane::fma(radiance.z, w, e.z), e.z)};
 }
 
-// Ambient occlusion's factor on the ambient term, per lane (occlusion.hpp).
-template <class T, Precision P, unsigned F>
-T occlusion_factor(const SceneData& s, const RayPacket8& rp, int lane, const Mask<T>& hit, const Vec3<T>& p,
-                   const Vec3<T>& n, const T& reach);
-
-template <class T, Precision P, unsigned F>
+template <class T, Precision P, unsigned F, OcclusionLayout L = kOcclusionLayout>
 inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out, int lane) {
     const Mask<T> hit = load_mask<T>(hp.hit, lane) && load_mask<T>(rp.active, lane);
     const Vec3<T> o{load<T>(rp.ox, lane), load<T>(rp.oy, lane), load<T>(rp.oz, lane)};
@@ -148,7 +126,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
             }
             T weight = ndl;
             if constexpr (decltype(attenuated)::value) {
-                // eq. 6: 1/r^2. Below r ~ 1e-19 it overflows to +inf: the lit
+                // inverse square: 1/r^2. Below r ~ 1e-19 it overflows to +inf: the lit
                 // channels become +inf, never NaN (see accumulate).
                 const T inv_dist = inv_r * scale;
                 weight = weight * (inv_dist * inv_dist);
@@ -159,7 +137,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     if constexpr ((F & kPoint) != 0) point_lights(s.point, s.point_count, std::false_type{});
     if constexpr ((F & kPointAttenuated) != 0) point_lights(s.point_attenuated, s.point_attenuated_count, std::true_type{});
 
-    // L = ka cd * ls cl  +  kd cd / pi * E   (eq. 8, the diffuse factor taken out of the sum)
+    // L = ka cd * ls cl  +  kd cd / pi * E   (the diffuse factor taken out of the sum)
     const Lookup<T> material(m, hit);
     Vec3<T> c = hadamard(material(s.diffuse_r, s.diffuse_g, s.diffuse_b), e);
     // kd cd = 0 times an overflowed E = +inf is NaN; the radiance is 0 there
@@ -169,7 +147,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
         Vec3<T> ambient = material(s.ambient_r, s.ambient_g, s.ambient_b);
         // The general kernel (F = kAllFeatures) runs a scene without occlusion too: samples 0, no factor.
         if constexpr ((F & kOcclusion) != 0)
-            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F>(s, rp, lane, hit, p, n, reach);
+            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F, L>(s, rp, lane, hit, p, n, reach);
         c += ambient;
     }
     store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));
@@ -177,10 +155,10 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     store(out.b, lane, lane::select(hit, c.z, T(s.background[2])));
 }
 
-template <class T, Precision P, unsigned F>
+template <class T, Precision P, unsigned F, OcclusionLayout L = kOcclusionLayout>
 void shade_packet(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
     const SceneData& s = scene.data();
-    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) shade_lanes<T, P, F>(s, rp, hp, out, lane);
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) shade_lanes<T, P, F, L>(s, rp, hp, out, lane);
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA

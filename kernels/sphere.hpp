@@ -161,7 +161,7 @@ OCTRAY_HOT T intersect_sphere(const Ray<T, P>& r, const Vec3<T>& center, const S
     return sphere_hit(r, center, radius.r, hit, tbest);
 }
 
-// ---- the hit in the sphere's frame (issue 16) ---------------------------------
+// ---- the hit in the sphere's frame -------------------------------------------
 // p - c at the hit, from the ray's closest approach to the centre rather than
 // from p = o + t d: f = o - c exactly (fh + fl, TwoSum), the foot of the
 // perpendicular q = f - d (f.d)/(d.d), projected out along d a second time

@@ -1,5 +1,5 @@
 // kernels/tonemap.hpp — HDR radiance to display colour: max_to_one,
-// clamp_to_color or saturate, then gamma (DESIGN.md, tone mapping).
+// clamp_to_color or saturate, then gamma (docs/shading-model.md, tone mapping).
 #pragma once
 
 #include "lane_pow.hpp"
@@ -7,7 +7,7 @@
 
 namespace octray::kernels::OCTRAY_ISA {
 
-// ---- tone mapping (DESIGN.md) ---------------------------------------------
+// ---- tone mapping (docs/shading-model.md) ---------------------------------
 // c^y for c > 0: on float lanes lane_pow.hpp's, the same code on both paths
 // (libm's powf and xsimd's pow differ, and xsimd's is ~100 cycles per batch);
 // double lanes (the f64 mode) keep libm's / xsimd's double pow.

@@ -1,7 +1,7 @@
 // kernels/validate.cpp — the one set of authoring-scene rules (scene.hpp).
 //
 // Scenes built in code and scenes read from JSON are judged here alike: the
-// loader (tools/scene_loader.cpp) checks only the JSON's shape and reports
+// loader (io/scene_loader.cpp) checks only the JSON's shape and reports
 // these messages at the file's JSON path. Messages name the Scene path
 // ("point_lights[0].ls") and say what is wrong and what was found.
 #include <octray/scene.hpp>

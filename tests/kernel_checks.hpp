@@ -1,5 +1,5 @@
 // tests/kernel_checks.hpp — what every kernel output must satisfy whatever the
-// rays (DESIGN.md, numerical policy), checked independently of the kernels,
+// rays (docs/shading-model.md, invalid input), checked independently of the kernels,
 // and a generator of garbage rays. The garbage-ray test, the thread test and
 // the kernel fuzz target (fuzz/) share them.
 #pragma once

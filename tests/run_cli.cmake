@@ -21,7 +21,7 @@ endif()
 if(DEFINED STDERR_HAS AND NOT err MATCHES "${STDERR_HAS}")
   message(FATAL_ERROR "stderr lacks '${STDERR_HAS}'\n${report}")
 endif()
-# Failures must say so in exactly one line on stderr (DESIGN.md).
+# Failures must say so in exactly one line on stderr (docs/shading-model.md, the scene contract).
 if(NOT status EQUAL 0)
   string(REGEX MATCHALL "\n" newlines "${err}")
   list(LENGTH newlines lines)

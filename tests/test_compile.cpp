@@ -1,13 +1,15 @@
-// compile(): what it rejects in scenes built in code.
+// compile(): what it rejects in scenes built in code, and its options.
 #include <doctest/doctest.h>
 
 #include "support.hpp"
 
+#include "scene_data.hpp"
 #include "scene_loader.hpp"
 #include "verify.hpp"
 
 #include <octray/kernels.hpp>
 #include <octray/reference.hpp>
+#include <octray/threads.hpp>
 
 #include <string>
 #include <vector>
@@ -44,4 +46,28 @@ TEST_CASE("compile() rejects scenes built in code that break the invariants, nam
     bad = ok;
     bad.camera.up = {0, 0, 1};  // parallel to eye - look_at
     CHECK(message(bad).find("camera.up") != std::string::npos);
+}
+
+TEST_CASE("CompileOptions: the thread count never changes the tree; bad options are refused") {
+    Scene s = one_object_scene(Sphere{{0, 0, 0}, 1});
+    RandomRays rays(11);
+    for (int i = 0; i < 300; ++i) s.objects.push_back(Object{Sphere{fl(rays.in_cube(5)), f(rays.uniform(0.05, 0.3))}, 0});
+    CompileOptions one, three;
+    one.threads = 1, three.threads = 3;
+    const PacketScene a = compile(s, one), b = compile(s, three), every = compile(s);
+    CHECK(a.data().bvh.nodes.size() > 1);
+    for (const PacketScene* p : {&b, &every}) {
+        CHECK(p->data().bvh.order == a.data().bvh.order);
+        CHECK(p->data().bvh.nodes.size() == a.data().bvh.nodes.size());
+        CHECK(p->data().spheres.cx == a.data().spheres.cx);
+    }
+    CHECK(resolve_threads(5) == 5);  // the one rule: n > 0 is n, 0 every core
+    CHECK(resolve_threads(0) >= 1);
+    for (auto broken : {+[](CompileOptions& o) { o.threads = -1; }, +[](CompileOptions& o) { o.max_leaf_size = 0; },
+                        +[](CompileOptions& o) { o.bins = 1; }, +[](CompileOptions& o) { o.intersection_cost = 0; },
+                        +[](CompileOptions& o) { o.leaf_block = 0; }}) {
+        CompileOptions o;
+        broken(o);
+        CHECK_THROWS_AS(compile(s, o), std::invalid_argument);
+    }
 }

@@ -81,8 +81,9 @@ TEST_CASE("BVH culling: scenes of hundreds of primitives agree with the referenc
     CHECK(out[0].primitive == out[1].primitive);
     // The tree only skips work: with every box infinite (nothing culled,
     // every primitive tested) the image is the same, bit for bit.
-    PacketScene unculled = ps;
-    disable_culling(unculled);
+    CompileOptions flat;
+    flat.acceleration = CompileOptions::Acceleration::none;
+    const PacketScene unculled = compile(s, flat);
     for (Path path : {Path::scalar, Path::simd}) {
         const PacketRender all = render_packet(select_kernel(unculled, path), unculled);
         CHECK(all.radiance.rgb == out[int(path)].radiance.rgb);
@@ -149,8 +150,9 @@ TEST_CASE("the BVH walk skips only what no ray of the packet could hit: bundles 
     }
     const PacketScene culled = compile(s);
     REQUIRE(culled.data().bvh.depth >= 3);
-    PacketScene unculled = culled;
-    disable_culling(unculled);
+    CompileOptions flat;
+    flat.acceleration = CompileOptions::Acceleration::none;
+    const PacketScene unculled = compile(s, flat);
     RandomRays rays(5);
     const double origin_spread[] = {0, 1e-3, 0.1, 3};
     const double angle_spread[] = {0, 1e-3, 0.05, 0.5, 2};

@@ -1,4 +1,4 @@
-// Garbage rays at volume (issue 19): random bit patterns through intersect,
+// Garbage rays at volume (docs/reliability.md): random bit patterns through intersect,
 // occluded, shade and tonemap of every ISA unit this CPU runs, in every
 // precision mode the unit compiles. No NaN in any output, and the masked-lane
 // count exactly the one kernel_checks.hpp computes independently.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""CTest tools.insn_mix: tools/insn-mix classes a hand-made callgrind profile right.
+"""CTest tools.insn_mix: scripts/insn-mix classes a hand-made callgrind profile right.
 
     test_insn_mix.py TOOL BINARY
 

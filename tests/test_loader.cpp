@@ -160,7 +160,7 @@ TEST_CASE("material indices follow the file order, not name order") {
     CHECK(s.objects[0].material == 1);
 }
 
-TEST_CASE("defaults: absent optional parts take DESIGN.md's values") {
+TEST_CASE("defaults: absent optional parts take docs/scene-format.md's values") {
     const Scene s = parse_scene(kMinimal, "t.json");
     CHECK(near(s.background, {0, 0, 0}));
     CHECK_FALSE(s.ambient.has_value());

@@ -1,4 +1,4 @@
-// tests/test_occlusion.cpp — ambient occlusion (DESIGN.md, "Ambient
+// tests/test_occlusion.cpp — ambient occlusion (docs/shading-model.md, "Ambient
 // occlusion"): the sample generator, the visible fraction against closed
 // forms on the reference and both packet paths, the paths' agreement on
 // whole renders, and determinism across thread counts.

@@ -4,7 +4,7 @@
 // height field (~1k and ~4k triangles); camera and incoherent rays; closest
 // hit and any hit; rtcIntersect8/rtcOccluded8 and rtcIntersect1/rtcOccluded1.
 //
-// The rule (issue 18): on >= 99.99% of the rays not near an edge, the same
+// The rule (docs/performance.md, the cost curve): on >= 99.99% of the rays not near an edge, the same
 // hit or miss and the same primitive, and where both hit it, t within 1e-5
 // relative (to max(t, |origin| / |d|): a float t is rounded at the scale of
 // the coordinates, so a bounce ray's short t, 1e-3 from its origin 4 units

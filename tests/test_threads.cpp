@@ -1,4 +1,4 @@
-// The thread-safety claim (kernels.hpp, packet_scene.hpp; issue 19): one
+// The thread-safety claim (kernels.hpp, packet_scene.hpp; docs/reliability.md): one
 // compiled scene shared by many threads, each rendering disjoint rows or
 // tracing its own packets through intersect, occluded, shade and tonemap,
 // gives bit for bit what one thread gives. Plain std::thread, no OpenMP, so
@@ -10,6 +10,7 @@
 
 #include <octray/kernels.hpp>
 #include <octray/packet_scene.hpp>
+#include <octray/render.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// One set of scene rules (issue 15, item 4): for every rule of validate(), a
+// One set of scene rules: for every rule of validate(), a
 // scene built in code and the same scene written as JSON are accepted or
 // rejected alike, and a rejection names the same field — validate()'s Scene
 // path in code, the file's JSON path from the loader — with the same problem.
@@ -300,7 +300,7 @@ TEST_CASE("the JSON writer of this test round-trips the base scene") {
     CHECK(std::get<Disk>(back.objects[2].shape).radius == 0.5);
     CHECK(back.render.gamma == 2.2);
     CHECK(back.render.tonemap == ToneMap::saturate);
-    // Directions come back normalized (DESIGN.md), everything else as written.
+    // Directions come back normalized (docs/scene-format.md), everything else as written.
     CHECK(std::get<Plane>(back.objects[1].shape).normal.y == 1.0);
     CHECK(back.directional_lights[0].direction.x == unit_direction({1, 2, 2}).x);
 }

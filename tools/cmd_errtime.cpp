@@ -6,6 +6,8 @@
 #include "plot_script.hpp"
 #include "scene_loader.hpp"
 
+#include <octray/threads.hpp>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -50,7 +52,7 @@ private:
 int run_errtime(const ErrtimeArgs& args) {
     const Scene scene = load_scene(args.scene);
     ErrtimeOptions options;
-    options.threads = args.threads > 0 ? args.threads : 1;
+    options.threads = resolve_threads(args.threads);
     std::printf("scene %s: %zu objects, %zu lights, %d thread%s\n", args.scene.c_str(), scene.objects.size(),
                 scene.directional_lights.size() + scene.point_lights.size(), options.threads,
                 options.threads == 1 ? "" : "s");

@@ -3,9 +3,9 @@
 #include "image_io.hpp"
 #include "progress.hpp"
 #include "scene_loader.hpp"
-#include "verify.hpp"
 
 #include <octray/kernels.hpp>
+#include <octray/render.hpp>
 #include <octray/reference.hpp>
 
 #include <chrono>
@@ -23,7 +23,7 @@ int run_render(const RenderArgs& args) {
         scene.camera.width = args.width;
         validate(scene);  // the image-size limits
     }
-    const int threads = thread_count(args.threads);
+    const int threads = resolve_threads(args.threads);
     const bool use_reference = args.path == kReferencePathName;
     const auto start = std::chrono::steady_clock::now();
     ImageRGB8 display;
@@ -35,12 +35,14 @@ int run_render(const RenderArgs& args) {
         display = reference::to_display(hdr, scene.render);
         if (!args.hdr.empty()) write_pfm(args.hdr, hdr);
     } else {
-        const PacketScene packet = compile(scene);
+        CompileOptions options;
+        options.threads = threads;
+        const PacketScene packet = compile(scene, options);
         const Kernel kernel = select_kernel(packet, args.path == path_name(Path::simd) ? Path::simd : Path::scalar);
         kernel_name = kernel.name();
         Image<float> shown(scene.camera.width, scene.camera.height);
         Progress progress("rendering", scene.camera.height);
-        const PacketRender out = render_packet(kernel, packet, threads, &progress, &shown);
+        const PacketRender out = render_packet(kernel, packet, threads, [&progress] { progress.tick(); }, &shown);
         progress.finish();
         counters = out.counters;
         render_seconds = out.seconds;

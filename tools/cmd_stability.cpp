@@ -35,7 +35,7 @@ int run_stability(const StabilityArgs&) {
                 "Columns: the path (1 = scalar, one lane; 8 = SIMD, %s) and the precision mode (AVX-512 modes:\n"
                 "%s). '!' marks a failed cell; 'naive' is the textbook formulation (b^2 - 4ac, fixed\n"
                 "epsilons), measured for comparison and not part of the verdict; on the rows with dn/(u(1+1/cos))\n"
-                "it is the kernels before issue 16 instead (their hits, n = (o + t d - c) / r).\n\n",
+                "it is the kernels before the sphere-frame hit instead (their hits, n = (o + t d - c) / r).\n\n",
                 cases.size(),
                 !simd_supported() ? "not available, the scalar kernel runs" : avx512_supported() ? "AVX-512 F+VL" : "AVX2+FMA",
                 avx512_supported() ? "AVX-512 F+VL" : "not available, they run as fast");

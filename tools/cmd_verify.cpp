@@ -13,8 +13,10 @@ namespace octray::cli {
 
 int run_verify(const VerifyArgs& args) {
     const Scene scene = load_scene(args.scene);
-    const PacketScene packet = compile(scene);
-    const ReferenceRender ref = render_reference(scene);
+    CompileOptions options;
+    options.threads = args.threads;
+    const PacketScene packet = compile(scene, options);
+    const ReferenceRender ref = render_reference(scene, args.threads);
     const Tolerance tol;
     std::printf("scene %s: %dx%d, %zu objects, %zu lights\n", args.scene.c_str(), scene.camera.width,
                 scene.camera.height, scene.objects.size(),
@@ -28,7 +30,7 @@ int run_verify(const VerifyArgs& args) {
     int threads = 0;  // as the renders report it
     for (Path path : {Path::scalar, Path::simd}) {
         const Kernel kernel = select_kernel(packet, path);
-        const PacketRender out = render_packet(kernel, packet, thread_count(args.threads));
+        const PacketRender out = render_packet(kernel, packet, args.threads);
         threads = std::max(threads, out.threads);
         const Agreement a = compare(ref, out.radiance, out.primitive);
         const bool pass = a.within(tol);

@@ -1,12 +1,10 @@
 // tools/commands.hpp — the `octray` subcommands, one function each.
-// Each returns the process exit status (DESIGN.md: 0 ok, 1 a failed
+// Each returns the process exit status (the contract: 0 ok, 1 a failed
 // verification, 2 bad input); bad input is thrown as an exception that
 // main() turns into one line on stderr.
 #pragma once
 
 #include <octray/kernels.hpp>
-
-#include <omp.h>
 
 #include <string>
 
@@ -16,9 +14,8 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;
 inline constexpr int kExitBadInput = 2;
 
-// `--threads N`: N render threads; 0 means all cores (OpenMP's count, which
-// OMP_NUM_THREADS may set), as the help of every subcommand says.
-inline int thread_count(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
+// `--threads N`: N threads; 0 means all cores, by the one rule of
+// octray/threads.hpp (resolve_threads), as the help of every subcommand says.
 
 // `--path`: a kernel Path by its path_name() (kernels.hpp), or the reference renderer.
 inline constexpr const char* kReferencePathName = "reference";
@@ -43,7 +40,7 @@ struct ErrtimeArgs {
     std::string scene;
     std::string csv;   // empty: no CSV
     std::string plot;  // empty: no plot (else F.svg and F.png, by tools/plot.py)
-    int threads = 1;   // render threads while timing
+    int threads = 1;   // render threads while timing (0: all cores)
 };
 int run_errtime(const ErrtimeArgs& args);
 

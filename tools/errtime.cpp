@@ -45,7 +45,9 @@ ErrtimeReport measure_errtime(const Scene& scene, const ErrtimeOptions& options,
     ErrtimeReport report;
     report.width = scene.camera.width;
     report.height = scene.camera.height;
-    const PacketScene packet = compile(scene);
+    CompileOptions compile_options;
+    compile_options.threads = options.threads;
+    const PacketScene packet = compile(scene, compile_options);
     const ReferenceTrace traced = trace_reference(scene);
     const ReferenceRender ref = render_reference(scene, traced);
     report.kappa = scene_condition(scene, traced);

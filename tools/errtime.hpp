@@ -15,7 +15,7 @@
 namespace octray {
 
 struct ErrtimeOptions {
-    int threads = 1;            // render threads while timing
+    int threads = 1;            // render threads while timing (octray/threads.hpp: 0 = every core)
     int min_repetitions = 5;    // timed renders per kernel after one warm-up render (at least 5)
     int max_repetitions = 50;
     double min_seconds = 0.5;   // per kernel: keep repeating (up to max_repetitions) until this much is timed

@@ -1,4 +1,4 @@
-// tools/main.cpp — the `octray` command-line program (DESIGN.md "Command line").
+// tools/main.cpp — the `octray` command-line program (README, "Command line").
 //
 // Exit status: 0 success, 1 a verification that failed, 2 bad input or usage
 // with exactly one line on standard error. Each subcommand is one function in
@@ -53,8 +53,8 @@ int main(int argc, char** argv) {
     errtime_cmd->add_option("--csv", errtime.csv, "write the table as CSV");
     errtime_cmd->add_option("--plot", errtime.plot,
                             "draw the plot (python3 with matplotlib): F.svg and F.png beside it");
-    errtime_cmd->add_option("--threads", errtime.threads, "render threads while timing")
-        ->check(CLI::Range(1, 1024))
+    errtime_cmd->add_option("--threads", errtime.threads, "render threads while timing (0 = all cores)")
+        ->check(CLI::Range(0, 1024))
         ->capture_default_str();
 
     StabilityArgs stability;

@@ -9,7 +9,7 @@ Each writes OUT.svg and, beside it, the same plot as PNG (OUT.svg's name with
 same input gives byte-identical files with the same matplotlib.
 
 `octray errtime --plot` runs this very text: the build embeds it in the
-binary and pipes it to python3 (cmake/octrayPlot.cmake); tools/bench-report
+binary and pipes it to python3 (cmake/octrayPlot.cmake); scripts/bench-report
 runs this file. Bad input: one line on stderr and exit 2; matplotlib missing:
 one line and exit 3.
 """

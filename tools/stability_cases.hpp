@@ -1,11 +1,12 @@
-// tools/stability_cases.hpp — the catalogue of stiff and extreme cases (issue 6).
+// tools/stability_cases.hpp — the catalogue of stiff and extreme cases (docs/accuracy.md).
 //
 // One list in code, shared by `octray stability` (tools/cmd_stability.cpp) and
 // the tests (tests/test_stability.cpp). Each case builds a small scene and a
 // few packets of rays, runs them through a Tracer — a packet kernel (path ×
 // precision mode) or the textbook formulation — and measures the result
 // against the double reference (kernels/reference.cpp) evaluated on exactly
-// the float inputs the kernel sees.
+// the float inputs the kernel sees. The cases are defined one family per file
+// over the shared checks of stability_check.hpp; stability_cases.cpp lists them.
 //
 // Error model. u = 2^-24 (float unit roundoff); eps = the mode's stated bound
 // for 1/x and 1/sqrt(x) (precision.hpp: div_bound, rsqrt_bound). A ray's
@@ -40,7 +41,7 @@ struct Tracer {
     Path path = Path::simd;
     Precision precision = Precision::exact;
     bool naive = false;  // the textbook formulation (stability_naive.cpp), for the naive count only; the
-                         // sphere-frame cases run the kernels' formulation before issue 16 instead
+                         // sphere-frame cases run the kernels' formulation before the sphere-frame hit instead
     std::string name() const;  // "scalar/exact", "simd/fast14", "naive"
 };
 

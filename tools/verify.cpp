@@ -1,14 +1,9 @@
 // tools/verify.cpp — reference vs packet path, as numbers.
 #include "verify.hpp"
 
-#include "progress.hpp"
-
 #include <octray/reference.hpp>
 
-#include <omp.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -74,9 +69,11 @@ ReferenceTrace trace_reference(const Scene& scene) {
     return t;
 }
 
-ReferenceRender render_reference(const Scene& scene) { return render_reference(scene, trace_reference(scene)); }
+ReferenceRender render_reference(const Scene& scene, int threads) {
+    return render_reference(scene, trace_reference(scene), threads);
+}
 
-ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& traced) {
+ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& traced, int threads) {
     const Camera& c = scene.camera;
     ReferenceRender r;
     r.radiance = Image<double>(c.width, c.height);
@@ -87,7 +84,7 @@ ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& trace
     if (r.ambient_occlusion) r.occlusion.assign(r.primitive.size(), OcclusionRange{});
     // Rows are independent (each pixel writes its own entries): a scene with
     // ambient occlusion traces N samples, each five times more (occlusion_range).
-#pragma omp parallel for schedule(dynamic, 4)
+#pragma omp parallel for schedule(dynamic, 4) num_threads(resolve_threads(threads))
     for (int j = 0; j < c.height; ++j) {
         for (int i = 0; i < c.width; ++i) {
             const std::size_t k = std::size_t(j) * std::size_t(c.width) + std::size_t(i);
@@ -105,31 +102,6 @@ ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& trace
         }
     }
     return r;
-}
-
-PacketRender render_packet(const Kernel& kernel, const PacketScene& scene, int threads, Progress* progress,
-                           Image<float>* display) {
-    const int w = scene.width(), h = scene.height();
-    PacketRender out;
-    out.radiance = Image<float>(w, h);
-    out.primitive.assign(std::size_t(w) * std::size_t(h), -1);
-    const auto start = std::chrono::steady_clock::now();
-    std::uint64_t rays = 0, masked = 0;
-    int team = 1;
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads) reduction(+ : rays, masked) reduction(max : team)
-    for (int y = 0; y < h; ++y) {
-        team = std::max(team, omp_get_num_threads());
-        RenderCounters c;
-        render_rows(kernel, scene, y, y + 1, out.radiance, display, &c, out.primitive.data());
-        if (progress) progress->tick();
-        rays += c.rays;
-        masked += c.masked;
-    }
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    out.counters.rays = rays;
-    out.counters.masked = masked;
-    out.threads = team;
-    return out;
 }
 
 Agreement compare(const ReferenceRender& ref, const Image<float>& radiance, const std::vector<std::int32_t>& primitive) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <octray/kernels.hpp>
+#include <octray/render.hpp>
 #include <octray/reference.hpp>
 #include <octray/scene.hpp>
 
@@ -39,25 +40,13 @@ struct ReferenceTrace {
     std::vector<reference::Hit> hits;
 };
 ReferenceTrace trace_reference(const Scene& scene);
-ReferenceRender render_reference(const Scene& scene);
-ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& traced);
+// Rows spread over `threads` threads (octray/threads.hpp: 0 = every core).
+ReferenceRender render_reference(const Scene& scene, int threads = 0);
+ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& traced, int threads = 0);
 OcclusionRange occlusion_range(const Scene& scene, const reference::Hit& hit, std::uint32_t pixel);
 // The count in the pixel's range whose radiance (the reference's, at that
 // count, into at_count) is nearest `radiance`; the reference's own on a tie.
 int occlusion_count(const ReferenceRender& ref, std::size_t pixel, const float* radiance, double at_count[3]);
-
-// A packet-path render with per-pixel primitive ids.
-struct PacketRender {
-    Image<float> radiance;
-    std::vector<std::int32_t> primitive;
-    RenderCounters counters;
-    double seconds = 0;  // wall time of the render itself
-    int threads = 0;     // the OpenMP threads it ran on
-};
-// Rows are spread over `threads` OpenMP threads; `progress` (optional) is ticked per row.
-class Progress;
-PacketRender render_packet(const Kernel& kernel, const PacketScene& scene, int threads = 1, Progress* progress = nullptr,
-                           Image<float>* display = nullptr);
 
 // Tolerances of `octray verify` for exact precision. Radiance error is
 // measured relative to the pixel's full-light radiance S (see DESIGN of

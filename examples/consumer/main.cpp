@@ -1,7 +1,7 @@
 // examples/consumer/main.cpp — a program built against the installed octray
 // package (find_package(octray) + octray::octray). One packet, one sphere:
-// the ray straight at the sphere must hit it at t = 4 and shade to the seed's
-// eq. 8 value; the other lanes are inactive and must come back as misses.
+// the ray straight at the sphere must hit it at t = 4 and shade to the shading
+// model's value (docs/shading-model.md); the other lanes are inactive and must come back as misses.
 #include <octray/octray.hpp>
 
 #include <cmath>

@@ -84,21 +84,4 @@ bool avx512_supported();
 // True when this CPU runs `precision` as asked (no fallback).
 bool precision_supported(Precision precision);
 
-struct RenderCounters {
-    std::uint64_t rays = 0;    // camera rays traced
-    std::uint64_t masked = 0;  // lanes masked off for invalid input
-};
-
-// Renders image rows [y0, y1) with 8-pixel camera tiles. `hdr` receives the
-// radiance, `display` (optional) the tone-mapped colour. Rows are independent:
-// disjoint row ranges may be rendered concurrently into the same images.
-// `primitive_ids` (optional, width*height, row-major) receives each pixel's
-// Scene::objects index, -1 on a miss.
-void render_rows(const Kernel& kernel, const PacketScene& scene, int y0, int y1, Image<float>& hdr,
-                 Image<float>* display, RenderCounters* counters = nullptr,
-                 std::int32_t* primitive_ids = nullptr) noexcept;
-
-// 8-bit conversion of a display image: floor(255 c + 0.5), c clamped to [0,1].
-ImageRGB8 quantize(const Image<float>& display);
-
 }  // namespace octray

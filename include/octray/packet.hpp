@@ -21,7 +21,7 @@ struct alignas(32) RayPacket {
     alignas(32) float tmin[W], tmax[W];     // open interval (tmin, tmax) of valid t
     alignas(32) std::int32_t active[W];     // non-zero: trace this lane
     // The lane's pixel, row-major (y * width + x): the key of its ambient-occlusion
-    // samples (DESIGN.md), so every path draws the same ones. Read only by shade,
+    // samples (docs/shading-model.md), so every path draws the same ones. Read only by shade,
     // and only for a scene whose ambient light has occlusion; camera() fills it.
     alignas(32) std::int32_t pixel[W];
 };

@@ -33,7 +33,7 @@
 // for unit n, as the point-light shading computes it): absolute error
 // <= rsqrt bound + 2^-21 (the FMA dot product and the final product add < 6u).
 //
-// Sphere normals (issue 16). The kernels form a sphere hit's p - c in the
+// Sphere normals. The kernels form a sphere hit's p - c in the
 // sphere's own frame (kernels/sphere.hpp, sphere_offset), not from
 // p = o + t d, whose float alone is off by u t / 2 (and t by a few u t): for
 // the float inputs o, d, c, r taken as exact,
@@ -56,7 +56,7 @@
 // h (3u cos), under 16 + 4/cos. The one 1/cos is h's: q holds r's length to
 // ~u r, and h = r cos takes it as an error u r / cos along d, as a ray moved
 // across by ~u r would: a backward error of a few u r whatever the distance.
-// (The kernels before issue 16 had p - c = o + t d - c, off by a few u t:
+// (Before the sphere-frame hit the kernels had p - c = o + t d - c, off by a few u t:
 // |n - n_exact| ~ u t / r, and t / r (1 / cos) near the outline.)
 //
 // End to end (radiance of a render against the double reference): the error

@@ -1,9 +1,9 @@
 // octray/reference.hpp — the scalar double reference renderer (the oracle).
 //
-// Written straight from the seed (../shared/seed/lights-and-materials.md):
-// for each pixel a camera ray, the nearest hit over all objects, then
-// Matte::shade = ambient term (eq. 7) + for each light with n.l > 0 the
-// Lambertian term kd*cd/pi * ls*cl * n.l (eq. 8; point lights eq. 6 with
+// Written straight from the equations of docs/shading-model.md: for each
+// pixel a camera ray, the nearest hit over all objects, then
+// Matte::shade = ambient term + for each light with n.l > 0 the
+// Lambertian term kd*cd/pi * ls*cl * n.l (point lights with
 // optional 1/r^2). Deliberately simple; every faster path is checked against it.
 #pragma once
 
@@ -20,7 +20,7 @@ struct Ray {
     Vec3d direction;  // unit for camera rays; intersectors accept any non-zero length
 };
 
-// Camera ray through the centre of pixel (i, j), DESIGN.md convention.
+// Camera ray through the centre of pixel (i, j), docs/scene-format.md convention.
 Ray camera_ray(const Camera& camera, int i, int j);
 
 // Nearest intersection parameter t in the open interval (tmin, tmax), if any.
@@ -62,12 +62,12 @@ struct Hit {
 // Nearest hit over all objects in (tmin, tmax). Ties keep the lower index.
 Hit trace(const Scene& scene, const Ray& ray, double tmin = 0.0, double tmax = 1e300);
 
-// HDR radiance of a hit (seed eq. 7-8), or the background on a miss.
+// HDR radiance of a hit (docs/shading-model.md), or the background on a miss.
 // `pixel` (row-major, j * width + i) keys the ambient-occlusion samples; it is
 // read only when the scene's ambient light has occlusion.
 Vec3d shade(const Scene& scene, const Ray& ray, const Hit& hit, std::uint32_t pixel = 0);
 
-// Ambient occlusion (DESIGN.md): sample k of `pixel` at a hit, the
+// Ambient occlusion (docs/shading-model.md): sample k of `pixel` at a hit, the
 // cosine-weighted direction about the hit's normal from the uniforms of
 // kernels/sampling.hpp (Malley's method, polar; the frame of Duff et al. 2017),
 // from just off the surface as shadow rays leave it. Its interval is (0, distance).
@@ -78,9 +78,9 @@ double occlusion_factor(const Scene& scene, const Hit& hit, std::uint32_t pixel)
 
 // shade()'s parts, for tools and tests that weigh or check its terms; each is
 // defined once here and shade() uses them.
-// Seed eq. 7: material m's ambient term ka cd * (ls cl); zero without ambient light.
+// Material m's ambient term ka cd * (ls cl); zero without ambient light.
 Vec3d ambient_term(const Scene& scene, const Material& m);
-// Seed eq. 8: m's Lambertian BRDF kd cd / pi; a light adds it * (ls cl) * n.l.
+// m's Lambertian BRDF kd cd / pi; a light adds it * (ls cl) * n.l.
 Vec3d lambertian_brdf(const Material& m);
 // The reference's shadow test at a hit: true when `light` casts shadows and
 // its shadow ray meets an object before reaching it. The ray starts at

@@ -3,8 +3,8 @@
 // This is what the JSON loader produces and what an engine may build by hand.
 // Invariants (validate() holds the rules; the loader and compile() apply it):
 // radii and extents are positive, material indices are in range, every number
-// is finite (see validate()). Field meanings follow DESIGN.md and the seed
-// (../shared/seed/lights-and-materials.md, eq. 1, 3, 6, 7, 8).
+// is finite (see validate()). Field meanings follow docs/scene-format.md and
+// docs/shading-model.md.
 //
 // Directions (DirectionalLight::direction, Plane::normal, Disk::normal,
 // Camera::up) need not be unit length: any finite, non-zero vector is valid,
@@ -43,7 +43,7 @@ struct Camera {
     int height = 240;
 };
 
-// Matte material: Lambertian BRDF, seed eq. 7-8.
+// Matte material: Lambertian BRDF (docs/shading-model.md).
 struct Material {
     std::string name;
     double ka = 0.25;  // ambient reflection coefficient, >= 0
@@ -51,7 +51,7 @@ struct Material {
     Vec3d cd{1, 1, 1}; // diffuse colour, components >= 0
 };
 
-// Ambient occlusion (DESIGN.md; Suffern ch. 17): the ambient term times
+// Ambient occlusion (docs/shading-model.md; Suffern ch. 17): the ambient term times
 // max(min_amount, the fraction of `samples` cosine-weighted rays over the
 // hemisphere about the facing normal that nothing blocks before `distance`).
 struct AmbientOcclusion {
@@ -61,7 +61,7 @@ struct AmbientOcclusion {
     double min_amount = 0;    // in [0, 1]
 };
 
-// Ambient light, seed eq. 1: incident radiance ls * color everywhere
+// Ambient light: incident radiance ls * color everywhere
 // (times the visible fraction, with Scene::ambient_occlusion).
 struct AmbientLight {
     Vec3d color{1, 1, 1};
@@ -72,8 +72,8 @@ enum class Attenuation { none, inverse_square };
 inline constexpr const char* kAttenuationNames[] = {"none", "inverse_square"};
 inline constexpr const char* attenuation_name(Attenuation a) { return kAttenuationNames[static_cast<int>(a)]; }
 
-// Directional light, seed eq. 3. `direction` points from the surface toward
-// the light (the seed's l is unit_direction(direction)).
+// Directional light. `direction` points from the surface toward the light
+// (the shading model's l is unit_direction(direction)).
 struct DirectionalLight {
     Vec3d direction{0, 1, 0};
     Vec3d color{1, 1, 1};
@@ -81,7 +81,7 @@ struct DirectionalLight {
     bool shadows = false;
 };
 
-// Point light, seed eq. 6; 1/r^2 only with Attenuation::inverse_square.
+// Point light; 1/r^2 only with Attenuation::inverse_square.
 struct PointLight {
     Vec3d position{0, 0, 0};
     Vec3d color{1, 1, 1};
@@ -111,7 +111,7 @@ struct Object {
     int material = 0;  // index into Scene::materials
 };
 
-// A triangle mesh (DESIGN.md, meshes): shared vertices and 32-bit indices,
+// A triangle mesh (docs/scene-format.md, meshes): shared vertices and 32-bit indices,
 // three per triangle, each < vertices.size(); every triangle is one primitive
 // of PrimitiveType::triangle, with the watertight test of a single triangle.
 // No zero-area triangle (the model loader drops and counts them).
@@ -146,7 +146,7 @@ struct Scene {
     Camera camera;
     Vec3d background{0, 0, 0};
     std::optional<AmbientLight> ambient;  // absent: no ambient light
-    // The JSON's ambient.occlusion; needs `ambient`. Absent: the seed's constant ambient light.
+    // The JSON's ambient.occlusion; needs `ambient`. Absent: the constant ambient light.
     std::optional<AmbientOcclusion> ambient_occlusion;
     std::vector<DirectionalLight> directional_lights;
     std::vector<PointLight> point_lights;

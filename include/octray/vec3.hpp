@@ -23,7 +23,7 @@ struct Vec3 {
     friend constexpr Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
     friend constexpr Vec3 operator*(const Vec3& a, const T& s) { return {a.x * s, a.y * s, a.z * s}; }
     friend constexpr Vec3 operator*(const T& s, const Vec3& a) { return {a.x * s, a.y * s, a.z * s}; }
-    // Component-wise product: the seed's ⋆ operator on colours.
+    // Component-wise product: the shading model's ⋆ operator on colours.
     friend constexpr Vec3 hadamard(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
     Vec3& operator+=(const Vec3& b) { x = x + b.x; y = y + b.y; z = z + b.z; return *this; }
 };

@@ -1,5 +1,7 @@
-// tools/mesh_generators.cpp — see mesh_generators.hpp.
+// io/mesh_generators.cpp — see mesh_generators.hpp.
 #include "mesh_generators.hpp"
+
+#include <octray/constants.hpp>
 
 #include <cmath>
 #include <stdexcept>
@@ -27,9 +29,9 @@ MeshData uv_sphere(int rings, int segments) {
     m.vertices.reserve(std::size_t(rings - 1) * seg + 2);
     m.vertices.push_back({0, 1, 0});
     for (int r = 1; r < rings; ++r) {
-        const double theta = M_PI * r / rings;
+        const double theta = kPi * r / rings;
         for (int s = 0; s < segments; ++s) {
-            const double phi = 2 * M_PI * s / segments;
+            const double phi = 2 * kPi * s / segments;
             m.vertices.push_back({std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)});
         }
     }
@@ -57,7 +59,7 @@ MeshData height_field(int n) {
     for (std::uint32_t j = 0; j < side; ++j)
         for (std::uint32_t i = 0; i < side; ++i) {
             const double x = -1 + 2.0 * i / n, z = -1 + 2.0 * j / n;
-            m.vertices.push_back({x, 0.25 * std::sin(M_PI * x) * std::cos(M_PI * z), z});
+            m.vertices.push_back({x, 0.25 * std::sin(kPi * x) * std::cos(kPi * z), z});
         }
     m.indices.reserve(std::size_t(6) * n * n);
     for (std::uint32_t j = 0; j + 1 < side; ++j)

@@ -1,4 +1,4 @@
-// tools/model_loader.cpp — see model_loader.hpp.
+// io/model_loader.cpp — see model_loader.hpp.
 //
 // How a file is read (assimp 5.2, Debian's libassimp):
 // 1. The extension picks the format. .obj and .ply each have one assimp reader, which
@@ -29,10 +29,11 @@
 // is turned into an error here. A logger set by a host program is left alone.
 #include "model_loader.hpp"
 
+#include "model_math.hpp"
+
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/IOStream.hpp>
 #include <assimp/DefaultLogger.hpp>
-#include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/importerdesc.h>
 #include <assimp/BaseImporter.h>
@@ -54,129 +55,7 @@
 
 namespace octray {
 
-// ---- MeshTransform ------------------------------------------------------------------
-
-MeshTransform MeshTransform::from_trs(const Vec3d& translate, const Vec3d& rotate_deg, double scale) {
-    MeshTransform t;
-    t.translate = translate;
-    t.rotate_deg = rotate_deg;
-    t.scale = scale;
-    return t;
-}
-
-MeshTransform MeshTransform::from_matrix(const Matrix4d& m) {
-    MeshTransform t;
-    t.matrix = m;
-    return t;
-}
-
-namespace {
-
-constexpr Matrix4d kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-
-Matrix4d multiply(const Matrix4d& a, const Matrix4d& b) {
-    Matrix4d r{};
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) {
-            double s = 0;
-            for (int k = 0; k < 4; ++k) s += a[4 * i + k] * b[4 * k + j];
-            r[4 * i + j] = s;
-        }
-    return r;
-}
-
-// sin and cos of an angle in degrees; exact for whole multiples of 90 degrees.
-void sin_cos_deg(double deg, double& s, double& c) {
-    const double quarter = deg / 90.0;
-    if (quarter == std::floor(quarter) && std::fabs(quarter) < 1e15) {
-        static constexpr double kSin[4] = {0, 1, 0, -1};
-        static constexpr double kCos[4] = {1, 0, -1, 0};
-        const auto q = static_cast<long long>(quarter);
-        const int k = static_cast<int>(((q % 4) + 4) % 4);
-        s = kSin[k];
-        c = kCos[k];
-        return;
-    }
-    const double rad = deg * (M_PI / 180.0);
-    s = std::sin(rad);
-    c = std::cos(rad);
-}
-
-Matrix4d rotation(int axis, double deg) {
-    double s = 0, c = 1;
-    sin_cos_deg(deg, s, c);
-    Matrix4d r = kIdentity;
-    const int i = (axis + 1) % 3, j = (axis + 2) % 3;  // x: (y, z); y: (z, x); z: (x, y)
-    r[4 * i + i] = c;
-    r[4 * i + j] = -s;
-    r[4 * j + i] = s;
-    r[4 * j + j] = c;
-    return r;
-}
-
-bool finite3(const Vec3d& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-std::string num(double v) {
-    std::ostringstream o;
-    o.precision(17);
-    o << v;
-    return o.str();
-}
-
-std::string vec_str(const Vec3d& v) { return "(" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ")"; }
-
-}  // namespace
-
-Matrix4d MeshTransform::to_matrix() const {
-    if (matrix) return *matrix;
-    Matrix4d s = kIdentity;
-    s[0] = s[5] = s[10] = scale;
-    Matrix4d t = kIdentity;
-    t[3] = translate.x;
-    t[7] = translate.y;
-    t[11] = translate.z;
-    const Matrix4d r = multiply(rotation(2, rotate_deg.z), multiply(rotation(1, rotate_deg.y), rotation(0, rotate_deg.x)));
-    return multiply(t, multiply(r, s));
-}
-
-std::string translate_problem(const Vec3d& t) { return finite3(t) ? "" : "must be finite, got " + vec_str(t); }
-
-std::string rotate_deg_problem(const Vec3d& r) { return finite3(r) ? "" : "must be finite, got " + vec_str(r); }
-
-std::string scale_problem(double s) {
-    if (std::isfinite(s) && s > 0) return "";
-    return "must be finite and > 0, got " + num(s);
-}
-
-std::string matrix_problem(const Matrix4d& m) {
-    for (double v : m)
-        if (!std::isfinite(v)) return "must be finite, got " + num(v);
-    if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1)
-        return "must be affine (last row 0 0 0 1), got " + num(m[12]) + " " + num(m[13]) + " " + num(m[14]) + " " +
-               num(m[15]);
-    Vec3d rows[3];
-    for (int r = 0; r < 3; ++r) {
-        const double n = std::hypot(m[4 * r], std::hypot(m[4 * r + 1], m[4 * r + 2]));
-        if (!(n > 0)) return "must be invertible (row " + std::to_string(r) + " of the 3x3 part is zero)";
-        rows[r] = {m[4 * r] / n, m[4 * r + 1] / n, m[4 * r + 2] / n};
-    }
-    const double det = dot(rows[0], cross(rows[1], rows[2]));
-    if (!(std::fabs(det) > 1e-12))
-        return "must be invertible (the 3x3 part with unit rows has determinant " + num(det) + ")";
-    return "";
-}
-
-std::string MeshTransform::problem() const {
-    if (matrix) {
-        const std::string p = matrix_problem(*matrix);
-        return p.empty() ? p : "matrix: " + p;
-    }
-    std::string p;
-    if (!(p = translate_problem(translate)).empty()) return "translate: " + p;
-    if (!(p = rotate_deg_problem(rotate_deg)).empty()) return "rotate_deg: " + p;
-    if (!(p = scale_problem(scale)).empty()) return "scale: " + p;
-    return "";
-}
+using namespace model_math;
 
 // ---- assimp plumbing ----------------------------------------------------------------
 
@@ -552,54 +431,6 @@ MeshData load_model(const std::string& path, const MeshTransform& transform) {
     } catch (const std::exception& e) {
         unreadable(e.what());
     }
-}
-
-// ---- save_ply -----------------------------------------------------------------------
-
-void save_ply(const MeshData& mesh, const std::string& path) {
-    if (mesh.indices.empty() || mesh.indices.size() % 3 != 0)
-        throw ModelError("cannot write " + path + ": no triangles, or an index count that is not a multiple of 3");
-    if (mesh.vertices.size() > 0x7FFFFFFFu) throw ModelError("cannot write " + path + ": too many vertices");
-
-    auto scene = std::make_unique<aiScene>();
-    scene->mRootNode = new aiNode("root");
-    scene->mRootNode->mNumMeshes = 1;
-    scene->mRootNode->mMeshes = new unsigned[1]{0};
-    scene->mNumMaterials = 1;
-    scene->mMaterials = new aiMaterial*[1]{new aiMaterial};
-    scene->mNumMeshes = 1;
-    scene->mMeshes = new aiMesh*[1]{new aiMesh};
-
-    aiMesh& m = *scene->mMeshes[0];
-    m.mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
-    m.mMaterialIndex = 0;
-    m.mNumVertices = static_cast<unsigned>(mesh.vertices.size());
-    m.mVertices = new aiVector3D[m.mNumVertices];
-    for (unsigned v = 0; v < m.mNumVertices; ++v) {
-        const Vec3d& p = mesh.vertices[v];
-        m.mVertices[v] = aiVector3D(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
-        if (!finite3(to_vec(m.mVertices[v])))
-            throw ModelError("cannot write " + path + ": vertex " + std::to_string(v) + " " + vec_str(p) +
-                             " does not fit in float");
-    }
-    m.mNumFaces = static_cast<unsigned>(mesh.indices.size() / 3);
-    m.mFaces = new aiFace[m.mNumFaces];
-    for (unsigned f = 0; f < m.mNumFaces; ++f) {
-        aiFace& face = m.mFaces[f];
-        face.mNumIndices = 3;
-        face.mIndices = new unsigned[3];
-        for (unsigned k = 0; k < 3; ++k) {
-            const std::uint32_t i = mesh.indices[3 * std::size_t(f) + k];
-            if (i >= m.mNumVertices)
-                throw ModelError("cannot write " + path + ": index " + std::to_string(i) + " out of range (" +
-                                 std::to_string(m.mNumVertices) + " vertices)");
-            face.mIndices[k] = i;
-        }
-    }
-
-    Assimp::Exporter exporter;
-    if (exporter.Export(scene.get(), "plyb", path) != aiReturn_SUCCESS)
-        throw ModelError("cannot write " + path + ": " + exporter.GetErrorString());
 }
 
 }  // namespace octray

@@ -1,4 +1,4 @@
-// tools/scene_loader.hpp — scene JSON (DESIGN.md "Scene JSON") -> octray::Scene.
+// io/scene_loader.hpp — scene JSON (docs/scene-format.md) -> octray::Scene.
 //
 // The loader checks the JSON's shape itself: types, required fields, unknown
 // fields (a typo must not be silently ignored), type and material names. Value
@@ -10,7 +10,7 @@
 // Required: camera (type; eye, look_at, up, width, height; fov_y for pinhole,
 // height_world for orthographic), materials (object: name -> {type "matte",
 // ka, kd, cd}), objects (array; every object's geometry, type and material).
-// Optional, with the defaults of DESIGN.md / scene.hpp: background, ambient
+// Optional, with the defaults of docs/scene-format.md / scene.hpp: background, ambient
 // (absent = no ambient light; color, ls), lights (a light needs type and
 // direction or position; color, ls, shadows, attenuation are optional),
 // render (tonemap, clamp_color, gamma).

@@ -1,4 +1,4 @@
-// tools/image_io.cpp — PNG via stb (libstb provides the implementations), PFM by hand.
+// io/image_io.cpp — PNG via stb (libstb provides the implementations), PFM by hand.
 #include "image_io.hpp"
 
 #include <stb_image.h>

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Writes the sphere-field scenes of issue 16 (many small, distant spheres).
+"""Writes the sphere-field scenes (many small, distant spheres: the sphere-frame hit's test).
 
-    python3 tools/make_sphere_fields.py                 # scenes/sphere_field.json, scenes/sphere_field_far.json
-    python3 tools/make_sphere_fields.py --issue DIR     # also the issue's own scenes, into DIR
+    python3 scripts/make_sphere_fields.py                 # scenes/sphere_field.json, scenes/sphere_field_far.json
+    python3 scripts/make_sphere_fields.py --report DIR    # also the first report's scenes, into DIR
 
 The committed scenes put 20,000 spheres in front of an orthographic camera:
 radius 0.04 over a 10 x 2 grid 10-15 units away (sphere_field.json), and
@@ -16,11 +16,12 @@ are rounded (about 1u of angle, u = 2^-24), which moves the hit on a sphere
 of radius R at distance t by ~u t and its normal by ~u t / (R cos): the
 input term of precision.hpp's bound, which no kernel can remove.
 
---issue DIR writes the scenes the issue reported, as a new user would make
+--report DIR writes the scenes of the first report of sphere-normal errors at
+distance, as a new user would make
 them: scenes/default.json with its objects replaced by N spheres over a
 10 x 2 grid 10-15 units in front of its pinhole camera, centres rounded to
-four decimals (issue16_2000.json, issue16_20000.json, issue16_20000_r0.4.json),
-and issue16_20000_f32.json: the same 20,000 with those centres written as the
+four decimals (report_2000.json, report_20000.json, report_20000_r0.4.json),
+and report_20000_f32.json: the same 20,000 with those centres written as the
 floats they round to, which leaves the camera rays as the only rounded input.
 """
 import argparse
@@ -76,8 +77,8 @@ def write(path, scene):
     print(f"wrote {path}: {len(scene['objects'])} objects")
 
 
-def issue_scenes(outdir):
-    """The issue's reproduction: default.json's pinhole camera and lights."""
+def report_scenes(outdir):
+    """The first report's reproduction: default.json's pinhole camera and lights."""
     base = default_scene()
     eye, look = base["camera"]["eye"], base["camera"]["look_at"]
     fwd = [l - e for l, e in zip(look, eye)]
@@ -97,14 +98,14 @@ def issue_scenes(outdir):
             objects.append(sphere([f32(x) for x in c] if as_float else c, radius, materials[k % len(materials)]))
         scene = dict(base)
         scene["objects"] = objects
-        name = f"issue16_{count}" + ("" if radius == 0.04 else f"_r{radius}") + ("_f32" if as_float else "") + ".json"
+        name = f"report_{count}" + ("" if radius == 0.04 else f"_r{radius}") + ("_f32" if as_float else "") + ".json"
         write(os.path.join(outdir, name), scene)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default=os.path.join(ROOT, "scenes"), help="where the committed scenes go")
-    ap.add_argument("--issue", metavar="DIR", help="also write the issue's pinhole reproduction scenes into DIR")
+    ap.add_argument("--report", metavar="DIR", help="also write the first report's pinhole reproduction scenes into DIR")
     args = ap.parse_args()
     # radius 0.04, 10-15 units: 256 x 64 pixels over 10 x 2.5 units (a pixel ~ a sphere's diameter).
     base, objects = field(20000, 0.04, (-5, -1), (5, 1), 10, 15, seed=16)
@@ -112,9 +113,9 @@ def main():
     # radius 1e-3, 100-105 units: 128 x 64 pixels over 0.125 x 0.0625 (a pixel ~ half a diameter).
     base, objects = field(20000, 1e-3, (-0.0625, -0.03125), (0.0625, 0.03125), 100, 105, seed=17)
     write(os.path.join(args.out, "sphere_field_far.json"), orthographic(base, objects, 128, 64, 0.0625))
-    if args.issue:
-        os.makedirs(args.issue, exist_ok=True)
-        issue_scenes(args.issue)
+    if args.report:
+        os.makedirs(args.report, exist_ok=True)
+        report_scenes(args.report)
 
 
 if __name__ == "__main__":

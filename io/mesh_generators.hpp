@@ -1,4 +1,4 @@
-// tools/mesh_generators.hpp — triangle meshes made in code, for tests and benchmarks:
+// io/mesh_generators.hpp — triangle meshes made in code, for tests and benchmarks:
 // a tessellated unit sphere and a height field. Both are closed-form, so a test knows
 // every vertex; save_ply (model_loader.hpp) writes them as binary PLY for scenes.
 #pragma once

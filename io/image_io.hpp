@@ -1,7 +1,7 @@
-// tools/image_io.hpp — PNG (8-bit display images) and PFM (HDR radiance) files.
+// io/image_io.hpp — PNG (8-bit display images) and PFM (HDR radiance) files.
 //
 // PFM is the standard little-endian colour variant: header "PF\n<w> <h>\n-1.0\n",
-// then float32 RGB rows from the BOTTOM of the image to the top (DESIGN.md).
+// then float32 RGB rows from the BOTTOM of the image to the top (the PFM convention).
 // Every failure throws std::runtime_error naming the file and the OS reason.
 #pragma once
 

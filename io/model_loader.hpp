@@ -1,5 +1,5 @@
-// tools/model_loader.hpp — triangle meshes from model files (glTF 2.0, OBJ, PLY), read
-// with assimp, for the scene JSON's "mesh" object (DESIGN.md, "Meshes (extension)").
+// io/model_loader.hpp — triangle meshes from model files (glTF 2.0, OBJ, PLY), read
+// with assimp, for the scene JSON's "mesh" object (docs/scene-format.md, "Meshes").
 //
 // load_model() reads every triangle of a file (polygons triangulated, glTF node transforms
 // applied first), applies a MeshTransform in double, checks the result and returns an

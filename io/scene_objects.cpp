@@ -1,0 +1,151 @@
+// io/scene_objects.cpp — the scene JSON's objects: shapes, and meshes read
+// from model files (model_loader.hpp) under their transforms.
+#include "scene_reader.hpp"
+
+#include "model_loader.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace octray::scene_json {
+
+Shape Reader::shape(const Json& o, const std::string& path, PrimitiveType type) const {
+    const std::string what = std::string("a ") + primitive_type_name(type);
+    auto req = [&](const char* key) -> const Json& { return required(o, path, key, what); };
+    auto vec = [&](const char* key) { return vec3(req(key), member(path, key)); };
+    auto radius = [&] { return number(req("radius"), member(path, "radius")); };
+    switch (type) {
+        case PrimitiveType::sphere: {
+            Sphere s;
+            s.center = vec("center");
+            s.radius = radius();
+            return s;
+        }
+        case PrimitiveType::plane: return Plane{vec("point"), vec("normal")};
+        case PrimitiveType::disk: {
+            Disk d;
+            d.center = vec("center");
+            d.normal = vec("normal");
+            d.radius = radius();
+            return d;
+        }
+        case PrimitiveType::rectangle: return Rectangle{vec("corner"), vec("a"), vec("b")};
+        case PrimitiveType::box: return Box{vec("min"), vec("max")};
+        case PrimitiveType::triangle: {
+            const std::string vpath = member(path, "vertices");
+            const Json& vs = req("vertices");
+            if (!vs.is_array() || vs.size() != 3)
+                fail(vpath, "must be an array of 3 points ([x,y,z]), got " + describe(vs));
+            return Triangle{vec3(vs[0], element(vpath, 0)), vec3(vs[1], element(vpath, 1)), vec3(vs[2], element(vpath, 2))};
+        }
+    }
+    fail(path, "internal error: unhandled primitive type");
+}
+
+// A mesh object (docs/scene-format.md, meshes): its model file read by load_model.
+Mesh Reader::mesh(const Json& o, const std::string& opath) const {
+    reject_unknown(o, opath, "a mesh", {"type", "file", "material", "transform"});
+    const std::string fpath = member(opath, "file");
+    const std::string file = string(required(o, opath, "file", "a mesh"), fpath);
+    MeshTransform transform;
+    if (auto* v = optional(o, "transform")) transform = mesh_transform(*v, member(opath, "transform"));
+    // Relative to the scene file's folder.
+    std::string resolved = file;
+    const auto slash = file_.rfind('/');
+    if (!file.empty() && file[0] != '/' && slash != std::string::npos) resolved = file_.substr(0, slash + 1) + file;
+    try {
+        MeshData data = load_model(resolved, transform);
+        Mesh m;
+        m.vertices = std::move(data.vertices);
+        m.indices = std::move(data.indices);
+        m.dropped_degenerate = data.dropped_degenerate;
+        return m;
+    } catch (const ModelError& e) {
+        fail(fpath, file + ": " + e.what());
+    }
+}
+
+MeshTransform Reader::mesh_transform(const Json& j, const std::string& path) const {
+    expect_object(j, path);
+    reject_unknown(j, path, "a transform", {"translate", "rotate_deg", "scale", "matrix"});
+    MeshTransform t;
+    auto check = [&](const std::string& key, const std::string& problem) {
+        if (!problem.empty()) fail(member(path, key), problem);
+    };
+    if (auto* v = optional(j, "matrix")) {
+        for (const char* key : {"translate", "rotate_deg", "scale"})
+            if (optional(j, key)) fail(member(path, key), "not with \"matrix\": give one or the other");
+        const std::string mpath = member(path, "matrix");
+        if (!v->is_array() || v->size() != 16) fail(mpath, "must be an array of 16 numbers (row-major), got " + describe(*v));
+        Matrix4d m{};
+        for (std::size_t i = 0; i < 16; ++i) m[i] = number((*v)[i], element(mpath, i));
+        check("matrix", matrix_problem(m));
+        return MeshTransform::from_matrix(m);
+    }
+    if (auto* v = optional(j, "translate")) t.translate = vec3(*v, member(path, "translate")), check("translate", translate_problem(t.translate));
+    if (auto* v = optional(j, "rotate_deg")) t.rotate_deg = vec3(*v, member(path, "rotate_deg")), check("rotate_deg", rotate_deg_problem(t.rotate_deg));
+    if (auto* v = optional(j, "scale")) t.scale = number(*v, member(path, "scale")), check("scale", scale_problem(t.scale));
+    return t;
+}
+
+std::vector<Object> Reader::objects(const Json& j, const std::string& path, const std::vector<Material>& mats,
+                            std::vector<Mesh>& meshes, SourceMap& source) const {
+    if (!j.is_array()) fail(path, "must be an array, got " + describe(j));
+    static const std::vector<Names> fields{
+        {"type", "center", "radius", "material"},         {"type", "point", "normal", "material"},
+        {"type", "center", "normal", "radius", "material"}, {"type", "corner", "a", "b", "material"},
+        {"type", "min", "max", "material"},               {"type", "vertices", "material"}};
+    Names material_names;
+    for (const auto& m : mats) material_names.push_back(m.name);
+
+    std::vector<Object> out;
+    // The primitive limit (scene.hpp) checked as meshes come in, before a
+    // scene too large to compile loads more models.
+    std::size_t primitives = 0;
+    auto count = [&](std::size_t n, const std::string& at) {
+        primitives += n;
+        if (primitives > kMaxPrimitives)
+            fail(at, "too many primitives: more than " + std::to_string(kMaxPrimitives) +
+                         " objects and mesh triangles (the limit)");
+    };
+    for (std::size_t i = 0; i < j.size(); ++i) {
+        const Json& o = j[i];
+        const std::string opath = element(path, i);
+        Names types = names_of(kPrimitiveTypeNames);
+        types.push_back("mesh");
+        const std::size_t type_index = type_of(o, opath, "object", types);
+        const bool is_mesh = type_index == std::size_t(kPrimitiveTypeCount);
+        const auto type = static_cast<PrimitiveType>(is_mesh ? 0 : type_index);
+        const std::string what = is_mesh ? std::string("a mesh") : std::string("a ") + primitive_type_name(type);
+        Object obj;
+        Mesh m;
+        if (is_mesh) {
+            m = mesh(o, opath);
+            count(m.triangle_count(), member(opath, "file"));
+        } else {
+            count(1, opath);
+            reject_unknown(o, opath, what, fields[static_cast<std::size_t>(type)]);
+            obj.shape = shape(o, opath, type);
+        }
+        const std::string mpath = member(opath, "material");
+        const std::string name = string(required(o, opath, "material", what), mpath);
+        auto it = std::find(material_names.begin(), material_names.end(), name);
+        if (it == material_names.end())
+            fail(mpath, "unknown material \"" + name + "\" (" +
+                            (material_names.empty() ? std::string("no materials are defined")
+                                                    : "defined: " + join(material_names)) +
+                            ")");
+        if (is_mesh) {
+            m.material = static_cast<int>(it - material_names.begin());
+            meshes.push_back(std::move(m));
+            source.mesh.push_back(i);
+            continue;
+        }
+        obj.material = static_cast<int>(it - material_names.begin());
+        out.push_back(std::move(obj));
+    }
+    return out;
+}
+
+}  // namespace octray::scene_json
