@@ -91,7 +91,7 @@ py::dict info(const SceneHandle& s) {
 
 // `octray verify` (tools/cmd_verify.cpp): per path, the table's numbers and the verdict.
 py::dict verify(const SceneHandle& s, int threads) {
-    if (threads < 0) throw py::value_error("threads: must be >= 0 (0 = every core), got " + std::to_string(threads));
+    checked_threads(threads);
     struct Row {
         Path path;
         std::string isa, kernel;
@@ -134,7 +134,7 @@ py::dict verify(const SceneHandle& s, int threads) {
 
 // `octray errtime` (tools/cmd_errtime.cpp): one dict per row of the table.
 py::list errtime(const SceneHandle& s, int threads, int min_repetitions, int max_repetitions, double min_seconds) {
-    if (threads < 0) throw py::value_error("threads: must be >= 0 (0 = every core), got " + std::to_string(threads));
+    checked_threads(threads);
     if (min_repetitions < 5) throw py::value_error("min_repetitions: must be >= 5, got " + std::to_string(min_repetitions));
     if (max_repetitions < min_repetitions)
         throw py::value_error("max_repetitions: must be >= min_repetitions, got " + std::to_string(max_repetitions));

@@ -41,10 +41,7 @@ Path packet_path(const std::string& path) {
     throw py::value_error("path: expected 'simd' or 'scalar', got '" + path + "'");
 }
 
-int thread_count(int threads) {
-    if (threads < 0) throw py::value_error("threads: must be >= 0 (0 = every core), got " + std::to_string(threads));
-    return resolve_threads(threads);
-}
+int thread_count(int threads) { return resolve_threads(checked_threads(threads)); }
 
 // An (N, 3) array of a float dtype, read in place: float32 and float64 at any
 // strides; other float dtypes (float16, longdouble) converted once to float64.
@@ -184,6 +181,12 @@ py::array_t<T> owning_array(std::vector<T>&& v, std::vector<py::ssize_t> shape) 
 }  // namespace
 
 // ---- Scene -------------------------------------------------------------------
+
+int checked_threads(int threads) {
+    if (threads < 0 || threads > 1024)
+        throw py::value_error("threads: must be in [0, 1024] (0 = every core), got " + std::to_string(threads));
+    return threads;
+}
 
 SceneHandle::SceneHandle(Scene s, std::string src) : scene(std::make_shared<const Scene>(std::move(s))), source(std::move(src)) {
     compiled = compile(*scene);

@@ -25,6 +25,10 @@ struct SceneHandle {
 
 std::shared_ptr<SceneHandle> load(const std::string& path);
 
+// A `threads` argument, checked as the CLI's --threads (0 .. 1024; 0 = every
+// core); ValueError naming it otherwise. Returns it unresolved.
+int checked_threads(int threads);
+
 void bind_scene(py::module_& m, py::class_<SceneHandle, std::shared_ptr<SceneHandle>>& cls);
 void bind_harness(py::module_& m, py::class_<SceneHandle, std::shared_ptr<SceneHandle>>& cls);
 

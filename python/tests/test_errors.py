@@ -181,8 +181,10 @@ def test_ray_argument_errors(scene):
             method({"a": 1}, d)
         with pytest.raises(ValueError, match=r"^path: expected 'simd' or 'scalar', got 'gpu'$"):
             method(o, d, path="gpu")
-        with pytest.raises(ValueError, match=r"^threads: must be >= 0"):
+        with pytest.raises(ValueError, match=r"^threads: must be in \[0, 1024\] \(0 = every core\), got -?[0-9]+$"):
             method(o, d, threads=-1)
+        with pytest.raises(ValueError, match=r"^threads: must be in \[0, 1024\]"):
+            method(o, d, threads=100000)
         with pytest.raises(ValueError, match=r"^tmin: must not be NaN$"):
             method(o, d, float("nan"))
         with pytest.raises(ValueError, match=r"^tmax: must not be NaN$"):
@@ -196,13 +198,13 @@ def test_render_and_tonemap_argument_errors(scene):
         scene.render("gpu")
     with pytest.raises(ValueError, match=r"^width: must be in \[1, 16384\], got 0$"):
         scene.render(width=0)
-    with pytest.raises(ValueError, match=r"^threads: must be >= 0"):
+    with pytest.raises(ValueError, match=r"^threads: must be in \[0, 1024\] \(0 = every core\), got -?[0-9]+$"):
         scene.render(threads=-2)
     with pytest.raises(ValueError, match=r"^hdr: expected an \(H, W, 3\) array, got shape \(2, 2\)$"):
         scene.tonemap(np.zeros((2, 2)))
     with pytest.raises(TypeError, match=r"^hdr: expected a floating-point array, got dtype uint8$"):
         scene.tonemap(np.zeros((2, 2, 3), np.uint8))
-    with pytest.raises(ValueError, match=r"^threads: must be >= 0"):
+    with pytest.raises(ValueError, match=r"^threads: must be in \[0, 1024\] \(0 = every core\), got -?[0-9]+$"):
         scene.verify(threads=-1)
     with pytest.raises(TypeError, match=r"^scene: expected an octray.Scene"):
         octray.errtime("scenes/sphere.json")
