@@ -279,8 +279,9 @@ std::string parse_problem(const std::string& what) {
 
 }  // namespace
 
-Scene parse_scene(const std::string& json_text, const std::string& file_name_for_messages) {
-    const Reader reader(file_name_for_messages);
+namespace {
+
+Scene parse_with(const Reader& reader, const std::string& json_text, const std::string& file_name_for_messages) {
     Json root;
     PathTracker tracker(reader, root);
     try {
@@ -303,10 +304,22 @@ Scene parse_scene(const std::string& json_text, const std::string& file_name_for
         }
         std::string problem = parse_problem(e.what());
         std::replace(problem.begin(), problem.end(), '\n', ' ');
-        throw SceneError(file_name_for_messages + ": line " + std::to_string(line) + ", column " +
+        throw SceneError((file_name_for_messages.empty() ? "" : file_name_for_messages + ": ") + "line " +
+                         std::to_string(line) + ", column " +
                          std::to_string(end - line_start + 1) + ": " + problem);
     }
     return reader.scene(root);
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const std::string& file_name_for_messages) {
+    return parse_with(Reader(file_name_for_messages), json_text, file_name_for_messages);
+}
+
+Scene parse_scene(const std::string& json_text, const std::string& name_for_messages, const std::string& base_dir,
+                  const std::map<std::size_t, MeshArrays>& arrays) {
+    return parse_with(Reader(name_for_messages, base_dir, &arrays), json_text, name_for_messages);
 }
 
 Scene load_scene(const std::string& path) {

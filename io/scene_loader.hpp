@@ -19,8 +19,10 @@
 #include <octray/scene.hpp>
 
 #include <cstdint>
+#include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace octray {
 
@@ -43,5 +45,25 @@ Scene load_scene(const std::string& path);
 
 // Parses JSON text; `file_name_for_messages` only prefixes error messages.
 Scene parse_scene(const std::string& json_text, const std::string& file_name_for_messages);
+
+// A mesh object's triangles given in memory instead of a model file: the
+// vertices, and three indices per triangle (the Python module's
+// octray.Scene(dict) with "vertices" and "indices" arrays).
+struct MeshArrays {
+    std::vector<Vec3d> vertices;
+    std::vector<std::uint32_t> indices;
+};
+
+// A scene held in memory rather than in a file: the same reader, the same
+// rules, the same messages. `name_for_messages` prefixes them (empty: the
+// message is "JSON_PATH: problem" alone); a relative model "file" is read from
+// `base_dir` (empty: the working directory). A mesh object whose index in
+// "objects" is a key of `arrays` takes its triangles from there: its JSON has
+// "vertices" and "indices" (their values are not read) and no "file"; a
+// "transform" applies as to a file. validate() then judges the arrays as any
+// mesh (finite vertices, indices in range, no zero-area triangle) and
+// reports at objects[i].vertices[v] or objects[i].indices[k].
+Scene parse_scene(const std::string& json_text, const std::string& name_for_messages, const std::string& base_dir,
+                  const std::map<std::size_t, MeshArrays>& arrays);
 
 }  // namespace octray

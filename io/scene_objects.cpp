@@ -50,10 +50,9 @@ Mesh Reader::mesh(const Json& o, const std::string& opath) const {
     const std::string file = string(required(o, opath, "file", "a mesh"), fpath);
     MeshTransform transform;
     if (auto* v = optional(o, "transform")) transform = mesh_transform(*v, member(opath, "transform"));
-    // Relative to the scene file's folder.
+    // Relative to the scene file's folder (or the base directory of a scene held in memory).
     std::string resolved = file;
-    const auto slash = file_.rfind('/');
-    if (!file.empty() && file[0] != '/' && slash != std::string::npos) resolved = file_.substr(0, slash + 1) + file;
+    if (!file.empty() && file[0] != '/') resolved = base_dir_ + file;
     try {
         MeshData data = load_model(resolved, transform);
         Mesh m;
@@ -64,6 +63,24 @@ Mesh Reader::mesh(const Json& o, const std::string& opath) const {
     } catch (const ModelError& e) {
         fail(fpath, file + ": " + e.what());
     }
+}
+
+Mesh Reader::mesh_at(const Json& o, const std::string& opath, std::size_t index) const {
+    const auto it = arrays_ ? arrays_->find(index) : decltype(arrays_->end()){};
+    if (!arrays_ || it == arrays_->end()) return mesh(o, opath);
+    reject_unknown(o, opath, "a mesh given as arrays", {"type", "vertices", "indices", "material", "transform"});
+    required(o, opath, "vertices", "a mesh given as arrays");
+    required(o, opath, "indices", "a mesh given as arrays");
+    Mesh m;
+    m.vertices = it->second.vertices;
+    m.indices = it->second.indices;
+    if (auto* v = optional(o, "transform")) {
+        const Matrix4d t = mesh_transform(*v, member(opath, "transform")).to_matrix();
+        for (Vec3d& p : m.vertices)
+            p = {t[0] * p.x + t[1] * p.y + t[2] * p.z + t[3], t[4] * p.x + t[5] * p.y + t[6] * p.z + t[7],
+                 t[8] * p.x + t[9] * p.y + t[10] * p.z + t[11]};
+    }
+    return m;
 }
 
 MeshTransform Reader::mesh_transform(const Json& j, const std::string& path) const {
@@ -121,8 +138,8 @@ std::vector<Object> Reader::objects(const Json& j, const std::string& path, cons
         Object obj;
         Mesh m;
         if (is_mesh) {
-            m = mesh(o, opath);
-            count(m.triangle_count(), member(opath, "file"));
+            m = mesh_at(o, opath, i);
+            count(m.triangle_count(), member(opath, optional(o, "file") ? "file" : "indices"));
         } else {
             count(1, opath);
             reject_unknown(o, opath, what, fields[static_cast<std::size_t>(type)]);

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <map>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -62,12 +63,18 @@ struct SourceMap {
 // Reads one document; every check names the file and the JSON path it failed on.
 class Reader {
 public:
-    explicit Reader(std::string file) : file_(std::move(file)) {}
+    explicit Reader(std::string file) : file_(std::move(file)), base_dir_(folder_of(file_)) {}
+    // A scene held in memory (parse_scene with arrays): model files relative to
+    // `base_dir`, mesh arrays by object index.
+    Reader(std::string name, std::string base_dir, const std::map<std::size_t, MeshArrays>* arrays)
+        : file_(std::move(name)), base_dir_(std::move(base_dir)), arrays_(arrays) {
+        if (!base_dir_.empty() && base_dir_.back() != '/') base_dir_ += '/';
+    }
 
     [[noreturn]] void fail(const std::string& path, std::string problem) const {
         // The message contract is one line; user strings may hold newlines.
         std::replace(problem.begin(), problem.end(), '\n', ' ');
-        throw SceneError(file_ + ": " + (path.empty() ? "(root)" : path) + ": " + problem);
+        throw SceneError((file_.empty() ? "" : file_ + ": ") + (path.empty() ? "(root)" : path) + ": " + problem);
     }
 
     void expect_object(const Json& v, const std::string& path) const {
@@ -151,10 +158,20 @@ public:
                                 std::vector<Mesh>& meshes, SourceMap& source) const;
     Shape shape(const Json& o, const std::string& path, PrimitiveType type) const;
     Mesh mesh(const Json& o, const std::string& opath) const;  // its model file read by load_model
+    // The mesh object `index` of "objects": from `arrays_` where it is a key, else mesh().
+    Mesh mesh_at(const Json& o, const std::string& opath, std::size_t index) const;
     MeshTransform mesh_transform(const Json& j, const std::string& path) const;
 
 private:
+    // The folder of a scene file, with its '/' (empty: none named, the working directory).
+    static std::string folder_of(const std::string& file) {
+        const auto slash = file.rfind('/');
+        return slash == std::string::npos ? std::string() : file.substr(0, slash + 1);
+    }
+
     std::string file_;
+    std::string base_dir_;  // where relative model files are read from
+    const std::map<std::size_t, MeshArrays>* arrays_ = nullptr;
 };
 
 }  // namespace octray::scene_json
