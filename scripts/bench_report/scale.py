@@ -40,6 +40,7 @@ def scale_rows(rows):
                             "embree1_mrays": max(e1) / 1e6 if e1 else None,
                             "embree_best": best_name,
                             "octray_over_embree": ratio(r.get("octray_simd"), best),
+                            "simd_over_scalar": ratio(r.get("octray_simd"), r.get("octray_scalar")),
                             "xcheck_match_min": xm})
     return out
 
@@ -114,6 +115,8 @@ def scale_main(a):
                                                            [r for r in closest if r["rays"] == "incoherent"]),
         "scale_build_time_over_embree_max": extreme(max, "build_time_over_embree", builds),
         "scale_bytes_per_primitive_over_embree_max": extreme(max, "bytes_per_primitive_over_embree", builds),
+        "scale_simd_over_scalar_camera_min": extreme(min, "simd_over_scalar",
+                                                     [r for r in closest if r["rays"] == "camera"]),
     }
     summary.update(new)
     summary["scale"] = curve
