@@ -83,7 +83,7 @@
 // kernel's is within ~1.3u of the reference's, measured), so e ~ u t. It
 // vanishes where the rays and the scene are exact in float (an
 // orthographic camera on a power-of-two grid, coordinates written as
-// floats: scenes/sphere_field*.json), and there the bound holds with no
+// floats: the sphere_field scenes scripts/make_sphere_fields.py writes), and there the bound holds with no
 // t/R in it. The bound holds on every lane where the packet path and the
 // reference hit the same primitive, except on the edges of box faces and of
 // shadows: lanes with a 3x3 neighbour on the same object where the reference
@@ -170,7 +170,15 @@ inline constexpr double ndotl_bound(Precision p) { return normalize_bound(p); }
 // lit surface never shadows itself (no "shadow acne"). A sphere's hit point
 // c + R n carries no t-sized error: there relative to |p| alone.
 // (The kernels use the larger of this and 1e-4 |p|.)
-inline constexpr double shadow_offset(Precision p) { return 8 * rsqrt_bound(p); }
+// The hit point is IEEE in every mode: the estimate modes recompute it with an
+// IEEE division before shading (kernels/shade.hpp, ieee_hit_point), so their
+// point carries exact's error and their shadow rays take exact's offset. An
+// offset scaled to the estimate's own error (8 * 1.5 * 2^-12 (|p| + t) for
+// approx) lifted the ray past nearby geometry (a crease, a thin wall) and
+// flipped shadows on meshes.
+inline constexpr double shadow_offset(Precision p) {
+    return 8 * rsqrt_bound(p == Precision::f64 ? Precision::f64 : Precision::exact);
+}
 // |n - n_exact| of a sphere hit's unit normal on float inputs taken as exact
 // (every mode; see the header comment), cos = |n.d| / |d| at the hit; add
 // 42 u^2 |o - c| / r for |o - c| beyond ~4e5 r.
