@@ -1,0 +1,45 @@
+#!/usr/bin/env python3
+"""Writes scenes of the assimp test models lit by three shadow-casting lights.
+
+    python3 scripts/make_model_scenes.py --out DIR [--models /usr/share/assimp/models]
+
+The precision modes' shadow rays on meshes (docs/accuracy.md): each scene is
+scenes/models.json's ground plane and camera with one of its models (or all
+three), lit by a directional light, a point light and an inverse-square point
+light, every one casting shadows. The meshes come from Debian's
+assimp-testmodels (tools/install-deps); the scenes name them by absolute path,
+so they are written at build time into the build tree, not tracked.
+"""
+import argparse
+import json
+import os
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", required=True, help="directory the scenes go to")
+    ap.add_argument("--models", default="/usr/share/assimp/models", help="assimp-testmodels' folder")
+    args = ap.parse_args()
+    with open(os.path.join(ROOT, "scenes", "models.json")) as f:
+        base = json.load(f)
+    prefix = "/usr/share/assimp/models"
+    plane = [o for o in base["objects"] if o["type"] == "plane"]
+    meshes = [dict(o, file=o["file"].replace(prefix, args.models)) for o in base["objects"] if o["type"] == "mesh"]
+    lights = [dict(l, shadows=True) for l in base["lights"]]
+    os.makedirs(args.out, exist_ok=True)
+    scenes = {"models_shadows_all": meshes}
+    for m in meshes:
+        scenes["models_shadows_" + os.path.splitext(os.path.basename(m["file"]))[0].lower()] = [m]
+    for name, objects in scenes.items():
+        scene = dict(base, lights=lights, objects=plane + objects)
+        path = os.path.join(args.out, name + ".json")
+        with open(path, "w") as f:
+            json.dump(scene, f, indent=1)
+            f.write("\n")
+        print(f"wrote {path}: {len(objects)} model(s), {len(lights)} shadow-casting lights")
+
+
+if __name__ == "__main__":
+    main()
