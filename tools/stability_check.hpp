@@ -163,6 +163,8 @@ Measure origin_on_surface(const Tracer& tr);
 // a wide angle near the outline, a far telephoto field.
 Measure pinhole_wide_outline(const Tracer& tr);
 Measure pinhole_far_field(const Tracer& tr);
+// stability_shadows.cpp: shadow rays on meshes, a blocker 0.02 above the surface.
+Measure mesh_shadows(const Tracer& tr);
 // stability_planar.cpp: planes, disks, rectangles and boxes: parallel and
 // grazing rays, rims, edges and corners.
 Measure plane_parallel(const Tracer& tr);
