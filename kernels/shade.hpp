@@ -159,18 +159,25 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
     // |t|: with tmin < 0 a hit may lie behind the origin (t < 0).
     [[maybe_unused]] T reach = lane::abs(t) * lane::max(lane::max(lane::abs(d.x), lane::abs(d.y)), lane::abs(d.z));
     // Point lights, shadow rays and occlusion rays use p: a small sphere's from its frame.
-    if constexpr ((F & (kPoint | kPointAttenuated | kShadows | kOcclusion)) != 0) {
+    Mask<T> framed(false);
+    if constexpr ((F & kSphere) != 0 && (F & (kPoint | kPointAttenuated | kShadows | kOcclusion)) != 0) {
         if (lane::any(hit)) {
-            const T object = load_index<T>(hp.primitive, lane);
-            Mask<T> framed(false);
-            if constexpr ((F & kSphere) != 0) {
-                framed = sphere_surface_point(s, object, hit, o, d, t, reach, n, p);
-                reach = lane::keep(lane::not_(framed), reach);
-            }
-            // The estimate modes' t: recomputed in IEEE arithmetic, so their points are exact's.
-            ieee_hit_point<T, P>(s, rp, lane, object, hit, framed, o, d, n, t, p);
+            framed = sphere_surface_point(s, load_index<T>(hp.primitive, lane), hit, o, d, t, reach, n, p);
+            reach = lane::keep(lane::not_(framed), reach);
         }
     }
+    // Shadow and occlusion rays start from p: in the estimate modes, from p
+    // recomputed in IEEE arithmetic (ieee_hit_point), made on the first such
+    // ray only. Point lights' directions take p as it is: its error there is
+    // in the mode's end-to-end bound.
+    bool ieee_p = is_ieee(P);
+    [[maybe_unused]] auto ray_origin = [&]() -> const Vec3<T>& {
+        if (!ieee_p) {
+            ieee_hit_point<T, P>(s, rp, lane, load_index<T>(hp.primitive, lane), hit, framed, o, d, n, t, p);
+            ieee_p = true;
+        }
+        return p;
+    };
 
     Vec3<T> e{T(0), T(0), T(0)};  // sum over lights of ls*cl * n.l [/ r^2]
     if constexpr ((F & kDirectional) != 0) {
@@ -181,7 +188,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
             Mask<T> lit = hit && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
                 if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, l, inf<T>(), lit, reach));
+                    lit = lit && lane::not_(shadowed<T, P>(s, ray_origin(), n, l, inf<T>(), lit, reach));
             }
             accumulate(e, lit, ndl, broadcast3<T>(a.r, a.g, a.b, k));
         }
@@ -209,7 +216,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
             Mask<T> lit = hit && apart && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
                 if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach));
+                    lit = lit && lane::not_(shadowed<T, P>(s, ray_origin(), n, v * inv_r, (r2 * inv_r) * unscale, lit, reach));
             }
             T weight = ndl;
             if constexpr (decltype(attenuated)::value) {
@@ -234,7 +241,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
         Vec3<T> ambient = material(s.ambient_r, s.ambient_g, s.ambient_b);
         // The general kernel (F = kAllFeatures) runs a scene without occlusion too: samples 0, no factor.
         if constexpr ((F & kOcclusion) != 0)
-            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F, L>(s, rp, lane, hit, p, n, reach);
+            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F, L>(s, rp, lane, hit, ray_origin(), n, reach);
         c += ambient;
     }
     store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));
