@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Writes the sphere-field scenes (many small, distant spheres: the sphere-frame hit's test).
 
-    python3 scripts/make_sphere_fields.py                 # scenes/sphere_field.json, scenes/sphere_field_far.json
-    python3 scripts/make_sphere_fields.py --report DIR    # also the first report's scenes, into DIR
+    python3 scripts/make_sphere_fields.py --out DIR [NAME...]   # all of SCENES below, or the NAMEs
+    python3 scripts/make_sphere_fields.py --out DIR --report DIR2  # also the first report's scenes, into DIR2
 
-The committed scenes put 20,000 spheres in front of an orthographic camera:
-radius 0.04 over a 10 x 2 grid 10-15 units away (sphere_field.json), and
-radius 1e-3 at 100-105 units (sphere_field_far.json, t/r = 1e5). Their inputs
+The build runs it (tests/CMakeLists.txt: build/generated/ and
+build/generated/pinhole/); the scenes are not tracked (2.4 MB each).
+sphere_field and sphere_field_far put 20,000 spheres in front of an
+orthographic camera: radius 0.04 over a 10 x 2 grid 10-15 units away, and
+radius 1e-3 at 100-105 units (t/r = 1e5). Their inputs
 are exact in float, so `octray verify` measures the kernels, not the rounding
 of the scene file: the camera frame is axis-aligned, the image width and
 height and the view's half extents are powers of two (every camera ray
@@ -14,7 +16,11 @@ origin and direction is a float, the same in the reference's double), and
 every centre is written as the float it rounds to. A pinhole camera's rays
 are rounded (about 1u of angle, u = 2^-24), which moves the hit on a sphere
 of radius R at distance t by ~u t and its normal by ~u t / (R cos): the
-input term of precision.hpp's bound, which no kernel can remove.
+input term of precision.hpp's bound, which no kernel can remove. The
+pinhole_field* scenes are such fields through pinhole cameras (the issue's
+20,000 spheres r = 0.04 at 10-14 units, fov 42; 4,000 r = 1e-3 at 100 units,
+fov 3; a 100-degree wide angle; shadows on; point lights among the spheres):
+`octray verify --packet-rays` checks them with that input left out.
 
 --report DIR writes the scenes of the first report of sphere-normal errors at
 distance, as a new user would make
@@ -102,17 +108,84 @@ def report_scenes(outdir):
         write(os.path.join(outdir, name), scene)
 
 
+def pinhole_field(count, radius, near, far, fov, seed, eye=(0, 2.4, 8), look_at=(0, 0.8, 0), width=320, height=240,
+                  shadows=False, close_lights=False):
+    """count spheres of the given radius in the view of a pinhole camera with
+    vertical field of view `fov` (degrees) at eye, looking at look_at: the
+    centres uniform over the frustum between `near` and `far` units along
+    the view axis (within 90% of its half extents), written as the floats
+    they round to (the camera's rays are then the only rounded input).
+    default.json's materials and lights; `shadows`: every light casts them;
+    `close_lights`: two more point lights among the spheres, one
+    inverse-square."""
+    rng = random.Random(seed)
+    base = default_scene()
+    fwd = [l - e for l, e in zip(look_at, eye)]
+    n = math.sqrt(sum(x * x for x in fwd))
+    fwd = [x / n for x in fwd]
+    right = [-fwd[2], 0.0, fwd[0]]  # fwd x (0, 1, 0)
+    n = math.sqrt(sum(x * x for x in right))
+    right = [x / n for x in right]
+    up = [right[1] * fwd[2] - right[2] * fwd[1], right[2] * fwd[0] - right[0] * fwd[2], right[0] * fwd[1] - right[1] * fwd[0]]
+    half = math.tan(math.radians(fov) / 2)
+    aspect = width / height
+    materials = sorted(base["materials"])
+    objects = []
+    for k in range(count):
+        dist = rng.uniform(near, far)
+        a = rng.uniform(-0.9, 0.9) * half * aspect * dist
+        b = rng.uniform(-0.9, 0.9) * half * dist
+        c = [f32(eye[i] + fwd[i] * dist + right[i] * a + up[i] * b) for i in range(3)]
+        objects.append(sphere(c, radius, materials[k % len(materials)]))
+    scene = dict(base)
+    scene["camera"] = {"type": "pinhole", "eye": list(eye), "look_at": list(look_at), "up": [0, 1, 0], "fov_y": fov,
+                       "width": width, "height": height}
+    lights = [dict(l) for l in base["lights"]]
+    if close_lights:
+        mid = (near + far) / 2
+        at = lambda s, t, d: [eye[i] + fwd[i] * d + right[i] * s + up[i] * t for i in range(3)]
+        lights.append({"type": "point", "position": at(0.3 * half * mid, 0.2 * half * mid, mid), "color": [1.0, 0.9, 0.7],
+                       "ls": 1.0})
+        lights.append({"type": "point", "position": at(-0.4 * half * mid, -0.1 * half * mid, near + 0.25 * (far - near)),
+                       "color": [0.6, 0.8, 1.0], "ls": 0.2 * radius * 50, "attenuation": "inverse_square"})
+    if shadows:
+        for l in lights:
+            l["shadows"] = True
+    scene["lights"] = lights
+    scene["objects"] = objects
+    return scene
+
+
+# name: (what it is, how to make it). The orthographic fields keep every input
+# exact in float; the pinhole ones round every camera ray.
+SCENES = {
+    # radius 0.04, 10-15 units: 256 x 64 pixels over 10 x 2.5 units (a pixel ~ a sphere's diameter).
+    "sphere_field": lambda: orthographic(*field(20000, 0.04, (-5, -1), (5, 1), 10, 15, seed=16), 256, 64, 2.5),
+    # radius 1e-3, 100-105 units: 128 x 64 pixels over 0.125 x 0.0625 (a pixel ~ half a diameter).
+    "sphere_field_far": lambda: orthographic(*field(20000, 1e-3, (-0.0625, -0.03125), (0.0625, 0.03125), 100, 105, seed=17),
+                                             128, 64, 0.0625),
+    # The issue's pinhole fields: default.json's camera (fov 42) and a 3-degree telephoto at 100 units.
+    "pinhole_field": lambda: pinhole_field(20000, 0.04, 10, 14, 42, seed=18),
+    "pinhole_field_far": lambda: pinhole_field(4000, 1e-3, 100, 100.05, 3, seed=19),
+    # Variants: a wide angle (100 degrees: rays up to 60 degrees off axis), shadows from every light,
+    # and point lights among the spheres (inverse square, shadows on); the shadowed ones at 160 x 120
+    # (a shadow ray per light and lane: four times the work of a camera ray's).
+    "pinhole_field_wide": lambda: pinhole_field(20000, 0.04, 6, 10, 100, seed=20),
+    "pinhole_field_shadows": lambda: pinhole_field(20000, 0.04, 10, 14, 42, seed=21, width=160, height=120, shadows=True),
+    "pinhole_field_close_lights": lambda: pinhole_field(20000, 0.04, 10, 14, 42, seed=22, width=160, height=120,
+                                                        shadows=True, close_lights=True),
+}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--out", default=os.path.join(ROOT, "scenes"), help="where the committed scenes go")
+    ap.add_argument("--out", required=True, help="directory the scenes go to (the build tree: they are not tracked)")
     ap.add_argument("--report", metavar="DIR", help="also write the first report's pinhole reproduction scenes into DIR")
+    ap.add_argument("names", nargs="*", help=f"scenes to write (default: all of {', '.join(SCENES)})")
     args = ap.parse_args()
-    # radius 0.04, 10-15 units: 256 x 64 pixels over 10 x 2.5 units (a pixel ~ a sphere's diameter).
-    base, objects = field(20000, 0.04, (-5, -1), (5, 1), 10, 15, seed=16)
-    write(os.path.join(args.out, "sphere_field.json"), orthographic(base, objects, 256, 64, 2.5))
-    # radius 1e-3, 100-105 units: 128 x 64 pixels over 0.125 x 0.0625 (a pixel ~ half a diameter).
-    base, objects = field(20000, 1e-3, (-0.0625, -0.03125), (0.0625, 0.03125), 100, 105, seed=17)
-    write(os.path.join(args.out, "sphere_field_far.json"), orthographic(base, objects, 128, 64, 0.0625))
+    os.makedirs(args.out, exist_ok=True)
+    for name in args.names or SCENES:
+        write(os.path.join(args.out, name + ".json"), SCENES[name]())
     if args.report:
         os.makedirs(args.report, exist_ok=True)
         report_scenes(args.report)

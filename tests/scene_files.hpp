@@ -1,4 +1,7 @@
-// tests/scene_files.hpp — the JSON scenes of scenes/, sorted, for the suites that run every one.
+// tests/scene_files.hpp — the JSON scenes of scenes/, and those the build
+// generates (OCTRAY_GENERATED_SCENES: the orthographic sphere fields, the
+// models under shadow-casting lights; tests/CMakeLists.txt), sorted, for the
+// suites that run every one.
 #pragma once
 
 #include <doctest/doctest.h>
@@ -19,9 +22,14 @@
 inline std::vector<std::string> scene_files() {
     std::vector<std::string> files;
     const std::string dir = std::string(OCTRAY_SOURCE_DIR) + "/scenes";
-    if (std::filesystem::is_directory(dir))
-        for (const auto& e : std::filesystem::directory_iterator(dir))
-            if (e.path().extension() == ".json") files.push_back(e.path().string());
+    std::vector<std::string> dirs = {dir};
+#ifdef OCTRAY_GENERATED_SCENES
+    dirs.push_back(OCTRAY_GENERATED_SCENES);
+#endif
+    for (const std::string& d : dirs)
+        if (std::filesystem::is_directory(d))
+            for (const auto& e : std::filesystem::directory_iterator(d))
+                if (e.path().extension() == ".json") files.push_back(e.path().string());
     std::sort(files.begin(), files.end());
     REQUIRE_MESSAGE(!files.empty(), "no *.json scenes in " << dir);
     return files;

@@ -16,7 +16,10 @@ int run_verify(const VerifyArgs& args) {
     CompileOptions options;
     options.threads = args.threads;
     const PacketScene packet = compile(scene, options);
-    const ReferenceRender ref = render_reference(scene, args.threads);
+    const ReferenceRender ref =
+        args.packet_rays ? render_reference(scene, trace_reference(scene, packet, select_kernel(packet, Path::simd).camera),
+                                            args.threads)
+                         : render_reference(scene, args.threads);
     const Tolerance tol;
     std::printf("scene %s: %dx%d, %zu objects, %zu lights\n", args.scene.c_str(), scene.camera.width,
                 scene.camera.height, scene.objects.size(),
@@ -24,6 +27,8 @@ int run_verify(const VerifyArgs& args) {
     std::printf("tolerance: |L - L_ref| <= %.0e * S per channel (S: the pixel's radiance with every light at n.l = 1);\n"
                 "           mismatched hits only on silhouettes, at most %.1f%% of lanes\n\n",
                 tol.scaled_error, 100 * tol.silhouette_fraction);
+    if (args.packet_rays)
+        std::printf("reference: along the packet path's float camera rays (--packet-rays: their rounding left out)\n");
     std::printf("%-7s %-6s %8s %10s %10s %10s %10s %8s %10s %11s  %s\n", "path", "isa", "lanes", "max rel", "mean rel",
                 "p99 rel", "max L/S", "max ULP", "mismatched", "silhouette", "verdict");
     bool ok = true;

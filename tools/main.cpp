@@ -46,6 +46,8 @@ int main(int argc, char** argv) {
     auto* verify_cmd = app.add_subcommand("verify", "SIMD vs reference error table; exit 1 when over tolerance");
     verify_cmd->add_option("scene", verify.scene, "scene JSON file")->required();
     verify_cmd->add_option("--threads", verify.threads, "render threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    verify_cmd->add_flag("--packet-rays", verify.packet_rays,
+                         "trace the reference along the packet path's float camera rays (leaves their rounding out)");
 
     ErrtimeArgs errtime;
     auto* errtime_cmd = app.add_subcommand("errtime", "error against run time, per precision mode");

@@ -63,6 +63,10 @@ const std::vector<Case>& catalogue() {
         c.push_back(make("sphere_r1e-2_at_1e3_outline", "normal to a few u near the outline, t/r = 1e5", nb, 8,
                          small_far_outline));
         c.push_back(make("small_sphere_field", "400 spheres r <= 0.05 at 10-40: normals few u", nb, 8, small_sphere_field));
+        c.push_back(make("pinhole_120deg_r0.04_outline", "wide-angle pinhole rays near the outline: normals few u", nb, 8,
+                         pinhole_wide_outline));
+        c.push_back(make("pinhole_3deg_far_field", "400 spheres r = 1e-3 at 100 through a pinhole: few u", nb, 8,
+                         pinhole_far_field));
         c.push_back(make("sphere_r1e3_at_1e6", "large sphere seen from far: normals few u", nb, 8, large_far_sphere));
         c.push_back(make("sphere_tangent_rays", "exact tangent hits (disc = 0); 1 ulp out misses", t8, 8, tangent_rays));
         c.push_back(make("camera_inside_sphere", "the far root (exit) is the hit", t8, 8, camera_inside));
@@ -78,6 +82,8 @@ const std::vector<Case>& catalogue() {
         c.push_back(make("mesh_shared_edges", "watertight: rays through edges hit", leaks, 0, mesh_edges));
         c.push_back(make("mesh_shared_vertices", "watertight: rays through vertices hit", leaks, 0, mesh_vertices));
         c.push_back(make("triangle_ray_in_plane", "ray in the triangle's plane: miss", zero + " (t8)", 8, triangle_in_plane));
+        c.push_back(make("mesh_shadows_each_mode", "a sheet 0.02 above a mesh shadows it in every mode",
+                         "flips = 0, " + l16, 16, mesh_shadows));
         c.push_back(make("grazing_light_1e-7", "n.l = 1e-7 lights to eps relative", le, 16, grazing_light));
         c.push_back(make("lights_1e30_and_1e-30", "tiny term absorbed; alone it is exact", l16, 16, lights_dynamic_range));
         c.push_back(make("lights_64_over_12_decades", "sum of >= 0 terms: (n-1)u + terms", std::string(kLBound) + " <= 80", 80,

@@ -147,12 +147,24 @@ Measure planet_exact(const Tracer& tr);
 Measure tiny_sphere(const Tracer& tr);
 Measure far_sphere(const Tracer& tr, double distance);
 Measure small_far_outline(const Tracer& tr);
+// Shared with stability_pinhole.cpp: rays from o at c + (f r) e (three
+// directions e across c - o per fraction f), and the hit and normal checks
+// (the normals against the reference's on the same float rays; the naive
+// column the kernels' earlier n = (o + t d - c) / r).
+std::vector<Lane> sphere_probe(const Vec3d& o, const Vec3d& c, double r, std::initializer_list<double> fractions);
+Measure measure_frame(const Tracer& tr, const Scene& s, const std::vector<Lane>& lanes);
 Measure small_sphere_field(const Tracer& tr);
 Measure large_far_sphere(const Tracer& tr);
 Measure tangent_rays(const Tracer& tr);
 Measure camera_inside(const Tracer& tr);
 Measure origin_on_surface(const Tracer& tr);
 
+// stability_pinhole.cpp: small spheres through a pinhole camera's rays:
+// a wide angle near the outline, a far telephoto field.
+Measure pinhole_wide_outline(const Tracer& tr);
+Measure pinhole_far_field(const Tracer& tr);
+// stability_shadows.cpp: shadow rays on meshes, a blocker 0.02 above the surface.
+Measure mesh_shadows(const Tracer& tr);
 // stability_planar.cpp: planes, disks, rectangles and boxes: parallel and
 // grazing rays, rims, edges and corners.
 Measure plane_parallel(const Tracer& tr);

@@ -23,6 +23,8 @@ Lane planet_ray(double theta_deg, double phi_deg) {
     return {planet_origin(), dir(std::sin(th) * std::cos(ph), -std::cos(th), std::sin(th) * std::sin(ph))};
 }
 
+}  // namespace
+
 // A small or far sphere hit through its centre and at fractions of its radius;
 // `miss` fractions beyond it.
 std::vector<Lane> sphere_probe(const Vec3d& o, const Vec3d& c, double r, std::initializer_list<double> fractions) {
@@ -40,6 +42,8 @@ std::vector<Lane> sphere_probe(const Vec3d& o, const Vec3d& c, double r, std::in
         }
     return out;
 }
+
+namespace {
 
 // ---- sphere hits in the sphere's frame ---------------------------------------
 // The normal of every lane where kernel and reference hit the same sphere,
@@ -86,6 +90,8 @@ void point_normals(const Scene& scene, const std::vector<Lane>& lanes, Traced& t
     }
 }
 
+}  // namespace
+
 // Hits (t, hit/miss) and sphere normals. The naive tracer runs the SIMD exact
 // kernel with point_normals: the formulation these cases replaced.
 Measure measure_frame(const Tracer& tr, const Scene& s, const std::vector<Lane>& lanes) {
@@ -97,8 +103,6 @@ Measure measure_frame(const Tracer& tr, const Scene& s, const std::vector<Lane>&
     else add_note(m, t);
     return m;
 }
-
-}  // namespace
 
 Measure planet(const Tracer& tr) {
     const Scene s = planet_scene();

@@ -69,6 +69,22 @@ ReferenceTrace trace_reference(const Scene& scene) {
     return t;
 }
 
+ReferenceTrace trace_reference(const Scene& scene, const PacketScene& packet, CameraFn camera) {
+    const Camera& c = scene.camera;
+    ReferenceTrace t;
+    RayPacket8 rp;
+    for (int j = 0; j < c.height; ++j)
+        for (int i = 0; i < c.width; ++i) {
+            if (i % kPacketWidth == 0) camera(packet, i, j, rp);
+            const int q = i % kPacketWidth;
+            const Vec3d d{rp.dx[q], rp.dy[q], rp.dz[q]};
+            const reference::Ray& ray =
+                t.rays.emplace_back(reference::Ray{Vec3d{rp.ox[q], rp.oy[q], rp.oz[q]}, d * (1 / std::sqrt(dot(d, d)))});
+            t.hits.push_back(reference::trace(scene, ray));
+        }
+    return t;
+}
+
 ReferenceRender render_reference(const Scene& scene, int threads) {
     return render_reference(scene, trace_reference(scene), threads);
 }

@@ -40,6 +40,13 @@ struct ReferenceTrace {
     std::vector<reference::Hit> hits;
 };
 ReferenceTrace trace_reference(const Scene& scene);
+// The same along the camera rays `camera` makes (a kernel's: float, each
+// read exactly into double and its direction normalized in double). The
+// rounding of a pinhole camera's rays, ~u per direction component, moves a
+// hit at distance t by ~u t: on a sphere of radius R a normal change of
+// ~u t / (R cos), which no kernel can remove (precision.hpp, dn_in). This
+// trace leaves that input out, so the comparison measures the kernels alone.
+ReferenceTrace trace_reference(const Scene& scene, const PacketScene& packet, CameraFn camera);
 // Rows spread over `threads` threads (octray/threads.hpp: 0 = every core).
 ReferenceRender render_reference(const Scene& scene, int threads = 0);
 ReferenceRender render_reference(const Scene& scene, const ReferenceTrace& traced, int threads = 0);

@@ -81,9 +81,22 @@
 // kappa covers. e is the inputs' part, and it is where t/R comes
 // back for a general camera: a float ray's direction is rounded (the camera
 // kernel's is within ~1.3u of the reference's, measured), so e ~ u t. It
+// is the direction's rounding, not the kernel's arithmetic: the camera
+// forms d = u sx + v sy - w from a float frame (each of u, v, w, sx, sy
+// rounded by u/2) and rounds it, so even a correctly rounded d is off by
+// up to u/2 per component, e <= (u/2) sqrt(3) t |d|, and a ray that
+// passes the sphere at cos moves its hit by e / cos along the surface:
+// dn_in = (e / R)(1 + 1 / cos), whatever formulation the kernel uses. For
+// R = 0.04 at t = 12 that is ~1.5e-5 (1 + 1/cos); for R = 1e-3 at t = 100,
+// ~5e-3 (1 + 1/cos). Measured (`octray verify`, max L/S, the pinhole
+// fields of scripts/make_sphere_fields.py): 5.8e-4 and 8.5e-4 in exact,
+// 9.1e-4 for the far field in f64 (a double kernel on the same float
+// rays: the input's share), and 6.9e-6 and 1.6e-7 with the reference
+// traced along the kernels' float rays (`--packet-rays`): the kernels'
+// own share, within sphere_normal_bound. It
 // vanishes where the rays and the scene are exact in float (an
 // orthographic camera on a power-of-two grid, coordinates written as
-// floats: scenes/sphere_field*.json), and there the bound holds with no
+// floats: the sphere_field scenes scripts/make_sphere_fields.py writes), and there the bound holds with no
 // t/R in it. The bound holds on every lane where the packet path and the
 // reference hit the same primitive, except on the edges of box faces and of
 // shadows: lanes with a 3x3 neighbour on the same object where the reference
@@ -170,7 +183,15 @@ inline constexpr double ndotl_bound(Precision p) { return normalize_bound(p); }
 // lit surface never shadows itself (no "shadow acne"). A sphere's hit point
 // c + R n carries no t-sized error: there relative to |p| alone.
 // (The kernels use the larger of this and 1e-4 |p|.)
-inline constexpr double shadow_offset(Precision p) { return 8 * rsqrt_bound(p); }
+// The hit point is IEEE in every mode: the estimate modes recompute it with an
+// IEEE division before shading (kernels/shade.hpp, ieee_hit_point), so their
+// point carries exact's error and their shadow rays take exact's offset. An
+// offset scaled to the estimate's own error (8 * 1.5 * 2^-12 (|p| + t) for
+// approx) lifted the ray past nearby geometry (a crease, a thin wall) and
+// flipped shadows on meshes.
+inline constexpr double shadow_offset(Precision p) {
+    return 8 * rsqrt_bound(p == Precision::f64 ? Precision::f64 : Precision::exact);
+}
 // |n - n_exact| of a sphere hit's unit normal on float inputs taken as exact
 // (every mode; see the header comment), cos = |n.d| / |d| at the hit; add
 // 42 u^2 |o - c| / r for |o - c| beyond ~4e5 r.
