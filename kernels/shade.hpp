@@ -88,14 +88,8 @@ inline void ieee_hit_point(const SceneData& s, const RayPacket8& rp, int lane, c
             };
             take(m, {nearer(p.x, lo.x, hi.x), nearer(p.y, lo.y, hi.y), nearer(p.z, lo.z, hi.z)});
         }
-        if (const Mask<T> m = of_type(PrimitiveType::triangle, base); lane::any(m)) {
-            constexpr int w = lane::width<T>;
-            alignas(64) std::int32_t tri[w], vertex[w];
-            store_index(tri, 0, lane::keep(m, cid - T(float(base))));
-            for (int i = 0; i < w; ++i) vertex[i] = s.triangles.i0[std::size_t(tri[i])];
-            const T vi = load_index<T>(vertex, 0);
-            take(m, Lookup<T>(vi, m)(s.triangles.vx, s.triangles.vy, s.triangles.vz));
-        }
+        if (const Mask<T> m = of_type(PrimitiveType::triangle, base); lane::any(m))
+            take(m, Lookup<T>(lane::keep(m, cid - T(float(base))), m)(s.triangles.ax, s.triangles.ay, s.triangles.az));
         if (lane::any(flat)) {
             const T den = fdot(d, n);
             const Mask<T> ok = flat && den != T(0);
