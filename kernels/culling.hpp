@@ -42,9 +42,9 @@ inline bvh::RayView<T> ray_view(const Ray<T, P>& r) {
     return bvh::make_ray_view(r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tmin);
 }
 
-// Any hit in a tree of at most this many primitives tests them all (the
-// builder's largest leaf, bvh::BuildOptions::max_leaf_size).
-inline constexpr std::size_t kAnyHitAll = 8;
+// A tree of at most this many primitives (one leaf block) is not walked:
+// every packet tests them all, closest and any hit alike.
+inline constexpr std::size_t kTestAll = 8;
 
 // Types whose tests take one ray against a leaf's run side by side in the
 // lanes (test_run): the leaf kinds that are most of a large scene.
@@ -99,16 +99,17 @@ OCTRAY_HOT void for_each_candidate(const SceneData& s, const Ray<T, P>& r, const
             });
         };
         auto walk = [&](auto&& leaf) OCTRAY_HOT_LAMBDA {
-            if constexpr (Closest) {
-                bvh::traverse_closest(s.bvh, ray_view(r), active, limit, leaf);
-            } else if (s.bvh.primitive_count() <= kAnyHitAll) {
-                // Any hit among a leaf's worth of primitives (aobench's three
-                // spheres): every leaf, no walk. Testing them all costs about
-                // the root's node test, and needs no ray view (three divides).
+            if (s.bvh.primitive_count() <= kTestAll) {
+                // A leaf's worth of primitives (aobench's three spheres, a
+                // small scene): every leaf, no walk. Testing them all costs
+                // about the root's node test, and needs no ray view (three
+                // divides).
                 for (const bvh::Leaf& l : s.bvh.leaves) {
                     packet_leaf(l, active);
-                    if (!lane::any(active)) return;
+                    if (!Closest && !lane::any(active)) return;
                 }
+            } else if constexpr (Closest) {
+                bvh::traverse_closest(s.bvh, ray_view(r), active, limit, leaf);
             } else {
                 bvh::traverse_any(s.bvh, ray_view(r), active, limit, leaf);
             }
