@@ -4,11 +4,52 @@
 
 #include "model_loader.hpp"
 
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
+// The folders searched for a relative model path when OCTRAY_MODEL_PATH is
+// unset: colon-separated, set by CMakeLists.txt (assimp-testmodels' folder
+// where the build found it), else empty.
+#ifndef OCTRAY_DEFAULT_MODEL_PATH
+#define OCTRAY_DEFAULT_MODEL_PATH ""
+#endif
+
 namespace octray::scene_json {
+
+namespace {
+
+std::vector<std::string> split_path_list(const std::string& list) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (start <= list.size()) {
+        const std::size_t end = std::min(list.find(':', start), list.size());
+        if (end > start) out.push_back(list.substr(start, end - start));  // empty entries are skipped
+        start = end + 1;
+    }
+    return out;
+}
+
+// The places a mesh's "file" may be, in order (docs/scene-format.md, "Model
+// paths"): an absolute path as given; a relative one in the scene file's
+// folder, then in each folder of OCTRAY_MODEL_PATH (colon-separated), or of
+// the build's default list when that variable is unset.
+// base_dir: the scene file's folder (or the base directory of a scene held in
+// memory), "" or ending in '/'.
+std::vector<std::string> model_candidates(const std::string& base_dir, const std::string& file) {
+    if (!file.empty() && file[0] == '/') return {file};
+    std::vector<std::string> out{base_dir + file};
+    const char* env = std::getenv("OCTRAY_MODEL_PATH");
+    for (const std::string& dir : split_path_list(env ? env : OCTRAY_DEFAULT_MODEL_PATH))
+        out.push_back(dir.back() == '/' ? dir + file : dir + "/" + file);
+    return out;
+}
+
+}  // namespace
 
 Shape Reader::shape(const Json& o, const std::string& path, PrimitiveType type) const {
     const std::string what = std::string("a ") + primitive_type_name(type);
@@ -50,9 +91,22 @@ Mesh Reader::mesh(const Json& o, const std::string& opath) const {
     const std::string file = string(required(o, opath, "file", "a mesh"), fpath);
     MeshTransform transform;
     if (auto* v = optional(o, "transform")) transform = mesh_transform(*v, member(opath, "transform"));
-    // Relative to the scene file's folder (or the base directory of a scene held in memory).
-    std::string resolved = file;
-    if (!file.empty() && file[0] != '/') resolved = base_dir_ + file;
+    // The first candidate that exists; none: the first one's error, and every place looked in.
+    const std::vector<std::string> candidates = model_candidates(base_dir_, file);
+    std::string resolved;
+    for (const std::string& c : candidates) {
+        std::error_code ec;
+        if (std::filesystem::exists(c, ec)) {
+            resolved = c;
+            break;
+        }
+    }
+    if (resolved.empty() && !file.empty() && file[0] != '/') {
+        std::string tried;
+        for (const std::string& c : candidates) tried += (tried.empty() ? "" : ", ") + c;
+        fail(fpath, file + ": cannot open: No such file or directory (tried " + tried + ")");
+    }
+    if (resolved.empty()) resolved = candidates.front();  // an absolute path: load_model says why it cannot open it
     try {
         MeshData data = load_model(resolved, transform);
         Mesh m;

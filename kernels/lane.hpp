@@ -220,7 +220,7 @@ inline T rsqrt14_estimate(const T&) { static_assert(sizeof(T) == 0, "fast14/appr
 // (xsimd 8.1 converts element by element).
 template <class B>
 inline B load_floats(const float* p) {
-    constexpr std::size_t n = B::size;
+    [[maybe_unused]] constexpr std::size_t n = B::size;
     if constexpr (std::is_same_v<typename B::value_type, float>) return B::load_unaligned(p);
 #if defined(__AVX512F__)
     else if constexpr (n == 8) return B(_mm512_cvtps_pd(_mm256_loadu_ps(p)));
@@ -232,7 +232,7 @@ inline B load_floats(const float* p) {
 }
 template <class B>
 inline B load_ints(const std::int32_t* p) {
-    constexpr std::size_t n = B::size;
+    [[maybe_unused]] constexpr std::size_t n = B::size;
     if constexpr (std::is_same_v<typename B::value_type, float>) return B::load_unaligned(p);
 #if defined(__AVX512F__)
     else if constexpr (n == 8) return B(_mm512_cvtepi32_pd(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p))));
@@ -244,7 +244,7 @@ inline B load_ints(const std::int32_t* p) {
 }
 template <class B>
 inline void store_floats(float* p, const B& v) {
-    constexpr std::size_t n = B::size;
+    [[maybe_unused]] constexpr std::size_t n = B::size;
     if constexpr (std::is_same_v<typename B::value_type, float>) v.store_unaligned(p);
 #if defined(__AVX512F__)
     else if constexpr (n == 8) _mm256_storeu_ps(p, _mm512_cvtpd_ps(v));

@@ -53,8 +53,7 @@ int run_errtime(const ErrtimeArgs& args) {
     const Scene scene = load_scene(args.scene);
     ErrtimeOptions options;
     options.threads = resolve_threads(args.threads);
-    std::printf("scene %s: %zu objects, %zu lights, %d thread%s\n", args.scene.c_str(), scene.objects.size(),
-                scene.directional_lights.size() + scene.point_lights.size(), options.threads,
+    std::printf("scene %s: %s, %d thread%s\n", args.scene.c_str(), scene_contents(scene).c_str(), options.threads,
                 options.threads == 1 ? "" : "s");
     std::fflush(stdout);
     const ErrtimeReport report = measure_errtime(scene, options, stderr);

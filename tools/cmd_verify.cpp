@@ -21,9 +21,8 @@ int run_verify(const VerifyArgs& args) {
                                             args.threads)
                          : render_reference(scene, args.threads);
     const Tolerance tol;
-    std::printf("scene %s: %dx%d, %zu objects, %zu lights\n", args.scene.c_str(), scene.camera.width,
-                scene.camera.height, scene.objects.size(),
-                scene.directional_lights.size() + scene.point_lights.size());
+    std::printf("scene %s: %dx%d, %s\n", args.scene.c_str(), scene.camera.width, scene.camera.height,
+                scene_contents(scene).c_str());
     std::printf("tolerance: |L - L_ref| <= %.0e * S per channel (S: the pixel's radiance with every light at n.l = 1);\n"
                 "           mismatched hits only on silhouettes, at most %.1f%% of lanes\n\n",
                 tol.scaled_error, 100 * tol.silhouette_fraction);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <octray/kernels.hpp>
+#include <octray/scene.hpp>
 
 #include <string>
 
@@ -16,6 +17,20 @@ inline constexpr int kExitBadInput = 2;
 
 // `--threads N`: N threads; 0 means all cores, by the one rule of
 // octray/threads.hpp (resolve_threads), as the help of every subcommand says.
+
+// What a scene holds, for the first line of verify and errtime: "1 object,
+// 3 meshes (1312 triangles), 4 lights". Objects are the analytic primitives
+// of "objects"; a mesh object counts as a mesh (and its triangles).
+inline std::string scene_contents(const Scene& scene) {
+    auto count = [](std::size_t n, const char* one, const char* many) {
+        return std::to_string(n) + " " + (n == 1 ? one : many);
+    };
+    std::string s = count(scene.objects.size(), "object", "objects");
+    if (!scene.meshes.empty())
+        s += ", " + count(scene.meshes.size(), "mesh", "meshes") + " (" +
+             count(scene.mesh_triangle_count(), "triangle", "triangles") + ")";
+    return s + ", " + count(scene.directional_lights.size() + scene.point_lights.size(), "light", "lights");
+}
 
 // `--path`: a kernel Path by its path_name() (kernels.hpp), or the reference renderer.
 inline constexpr const char* kReferencePathName = "reference";
@@ -45,7 +60,10 @@ struct ErrtimeArgs {
 };
 int run_errtime(const ErrtimeArgs& args);
 
-struct StabilityArgs {};
+struct StabilityArgs {
+    bool wide = false;  // every path x mode as a column (wider than 100 columns)
+    std::string csv;    // empty: no CSV; else one row per case x path x mode, with notes
+};
 int run_stability(const StabilityArgs& args);
 
 struct InfoArgs {

@@ -61,6 +61,8 @@ int main(int argc, char** argv) {
 
     StabilityArgs stability;
     auto* stability_cmd = app.add_subcommand("stability", "the catalogue of stiff and extreme cases, as a table");
+    stability_cmd->add_flag("--wide", stability.wide, "one column per path x precision mode, and each expectation");
+    stability_cmd->add_option("--csv", stability.csv, "write every cell (case x path x mode, with notes) as CSV");
 
     InfoArgs info;
     auto* info_cmd = app.add_subcommand("info", "what the scene uses and which kernel runs it");
@@ -71,7 +73,12 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e);  // --help: usage on stdout, exit 0
         // CLI11's own exit codes (106, ...) would break the "2 = usage" contract.
-        return report_error(std::string(e.what()) + " (see octray --help)");
+        // Point to the help that lists the option: the subcommand's, once one is named.
+        std::string help = "octray --help";
+        for (int i = 1; i < argc && help == "octray --help"; ++i)
+            for (const CLI::App* sub : {render_cmd, verify_cmd, errtime_cmd, stability_cmd, info_cmd})
+                if (sub->check_name(argv[i])) help = "octray " + sub->get_name() + " --help";
+        return report_error(std::string(e.what()) + " (see " + help + ")");
     }
 
     try {

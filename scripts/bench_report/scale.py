@@ -83,8 +83,8 @@ def scale_main(a):
     parts = [("scale", small, reps), ("scale_1M", big, a.big_repetitions)]
     if not a.reuse:
         if not os.path.exists(binary):
-            sys.exit(f"bench-report: {binary} not found: build with cmake --build {build} --target octray_bench_scale "
-                     "(needs Embree 3)")
+            sys.exit(f"bench-report: {binary} not found: build with cmake -S . -B {build} -DOCTRAY_BUILD_BENCH=ON && "
+                     f"cmake --build {build} --target octray_bench_scale (needs Embree 3)")
         for tag, flt, n in parts:
             rc = run(pin + [binary, f"--benchmark_filter={a.filter or flt}", f"--benchmark_repetitions={n}"] + common,
                      os.path.join(raw, f"{tag}.json"))

@@ -50,7 +50,8 @@ def suite_main(a):
     if not (a.reuse or a.plot_only):
         if not os.path.exists(stages_bin):
             sys.exit(f"bench-report: {stages_bin} not found: build with "
-                     f"cmake -S . -B {build} && cmake --build {build} --target octray_bench octray_bench_embree")
+                     f"cmake -S . -B {build} -DOCTRAY_BUILD_BENCH=ON && "
+                     f"cmake --build {build} --target octray_bench octray_bench_embree")
         for tag, binary in binaries:
             rc = run(pin + [binary] + common, os.path.join(raw, f"{tag}.json"))
             if rc != 0:
