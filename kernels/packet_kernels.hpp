@@ -10,6 +10,9 @@
 //   ray.hpp         loading and masking rays, per-ray setup
 //   sphere.hpp, planar.hpp, box.hpp, triangle.hpp   the primitive tests
 //   culling.hpp     which bounded primitives a packet may hit: the BVH8 walk (bvh_traverse.hpp)
+//   bvh_traverse.hpp  the BVH8 walks: options, the packet walk, traverse_closest/traverse_any
+//   bvh_ray.hpp     a ray as the BVH walks see it, the node child tests for one ray
+//   bvh_walk_single.hpp, bvh_walk_hull.hpp   the single-ray walk, the hull walk
 //   intersect.hpp   closest hit, normals, any hit (shadow rays)
 //   shade.hpp       Lambertian shading
 //   shadow_ray.hpp  the offset ray from a shaded point (shadow and occlusion rays)

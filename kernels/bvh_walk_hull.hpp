@@ -1,0 +1,149 @@
+// kernels/bvh_walk_hull.hpp — the hull walk of the 8-wide BVH
+// (bvh_traverse.hpp): a packet of float lanes in one direction octant tests
+// each node's children once, against the interval hull of its rays.
+#pragma once
+
+#include "bvh_ray.hpp"
+#include "bvh_walk_single.hpp"
+
+#include <cstdint>
+#include <limits>
+
+namespace octray::bvh {
+
+inline namespace OCTRAY_BVH_ISA {
+
+namespace detail {
+
+// A coherent packet's walk (float lanes, every active lane in one direction
+// octant, finite reciprocals): each node's 8 children are tested once for
+// the whole packet, against the interval hull of its rays (origins in
+// [o_lo, o_hi], reciprocal directions in [inv_lo, inv_hi] per axis). By the
+// monotonicity of rounding, the hull's entry bound is no greater, and its
+// exit bound no smaller, than any lane's own float slab values, so a child
+// the hull misses is one no lane enters. Children are visited nearest hull
+// entry first. A leaf's lanes are found exactly (its box against each lane)
+// before its leaf function runs; at most leaf_lanes_alone of them
+// (WalkOptions::leaf_lanes_alone) go alone (LaneOf).
+struct Hull {
+    float o_lo[3], o_hi[3], inv_lo[3], inv_hi[3], tmin;
+    bool neg[3];
+};
+
+template <class T>
+inline bool make_hull(const RayView<T>& r, const Mask<T>& active, Hull& h) {
+    const T inf(std::numeric_limits<float>::infinity());
+    const T* o[3] = {&r.ox, &r.oy, &r.oz};
+    const T* inv[3] = {&r.inv_dx, &r.inv_dy, &r.inv_dz};
+    for (int a = 0; a < 3; ++a) {
+        const Mask<T> neg = *inv[a] < T(0);
+        if (lane::any(active && neg) && lane::any(active && lane::not_(neg))) return false;  // octants differ
+        if (lane::any(active && lane::not_(lane::abs(*inv[a]) < inf))) return false;     // an axis-parallel ray
+        h.neg[a] = lane::any(active && neg);
+        h.o_lo[a] = lane::lane0(lane::hmin(lane::select(active, *o[a], inf)));
+        h.o_hi[a] = lane::lane0(lane::hmax(lane::select(active, *o[a], T(0) - inf)));
+        h.inv_lo[a] = lane::lane0(lane::hmin(lane::select(active, *inv[a], inf)));
+        h.inv_hi[a] = lane::lane0(lane::hmax(lane::select(active, *inv[a], T(0) - inf)));
+    }
+    h.tmin = lane::lane0(lane::hmin(lane::select(active, r.tmin, inf)));
+    return true;
+}
+
+// The children the hull enters before `limit` (the greatest tbest of the
+// active lanes), with the hull's entry bounds in `entry`.
+inline unsigned hull_children(const Node8& node, const Hull& h, float limit, float entry[kWidth]) {
+    using N = NodeBatch;
+    return test_children(node, h.tmin, limit, entry, [&](int a, const float* lo, const float* hi, N& enter, N& leave) {
+        const N inv_lo(h.inv_lo[a]), inv_hi(h.inv_hi[a]);
+        // d > 0: t falls as o grows; d < 0: it rises (near - o and 1/d of opposite signs there).
+        const N near_d = N::load_aligned(h.neg[a] ? hi : lo) - N(h.neg[a] ? h.o_lo[a] : h.o_hi[a]);
+        const N far_d = N::load_aligned(h.neg[a] ? lo : hi) - N(h.neg[a] ? h.o_hi[a] : h.o_lo[a]);
+        enter = lane::max(lane::min(near_d * inv_lo, near_d * inv_hi), enter);
+        leave = lane::min(lane::max(far_d * inv_lo, far_d * inv_hi), leave);
+    });
+}
+
+// The lanes of `on` that enter child c of `node` before their tbest (the
+// packet walk's own test).
+template <class T>
+inline Mask<T> lanes_entering(const Node8& node, int c, const RayView<T>& r, const Mask<T>& on, const T& tbest) {
+    using S = lane::Scalar<T>;
+    auto axis = [&](float lo, float hi, const T& o, const T& inv, T& enter, T& leave) {
+        const Mask<T> neg = inv < T(0);
+        const T l = T(S(lo)), h = T(S(hi));
+        enter = lane::max((lane::select(neg, h, l) - o) * inv, enter);
+        leave = lane::min((lane::select(neg, l, h) - o) * inv, leave);
+    };
+    T enter = r.tmin, leave = tbest;
+    axis(node.lo_z[c], node.hi_z[c], r.oz, r.inv_dz, enter, leave);
+    axis(node.lo_y[c], node.hi_y[c], r.oy, r.inv_dy, enter, leave);
+    axis(node.lo_x[c], node.hi_x[c], r.ox, r.inv_dx, enter, leave);
+    return on && enter <= grow(leave);
+}
+
+template <bool Closest, class T, class LeafFn>
+bool walk_hull(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, const T& tbest, LeafFn& leaf,
+               int leaf_lanes_alone) {
+    Hull h;
+    if (!make_hull(r, active, h)) return false;
+    const T ninf(-std::numeric_limits<float>::infinity());
+    auto farthest = [&]() { return float(lane::lane0(lane::hmax(lane::select(active, tbest, ninf)))); };
+    struct Entry {
+        std::int32_t node;  // the parent of the child to visit
+        std::int8_t slot;
+        float t;
+    };
+    Entry stack[kStackSize];
+    int top = 0;
+    float limit = farthest();
+    alignas(32) float entry[kWidth];
+    std::int32_t ref = 0;
+    std::int32_t parent = -1;
+    int slot = 0;
+    for (;;) {
+        if (ref >= 0) {
+            const Node8& node = bvh.nodes[std::size_t(ref)];
+            unsigned bits = hull_children(node, h, limit, entry);
+            if (bits != 0) {
+                int idx[kWidth];
+                const int n = order_children(bits, entry, Closest, idx);
+                for (int a = 0; a + 1 < n; ++a) stack[top++] = {ref, std::int8_t(idx[a]), entry[idx[a]]};
+                parent = ref, slot = idx[n - 1];
+                ref = node.child[slot];
+                continue;
+            }
+        } else {
+            const Node8& up = bvh.nodes[std::size_t(parent)];
+            const Mask<T> on = lanes_entering(up, slot, r, active, tbest);
+            if (lane::any(on)) {
+                const Leaf& l = bvh.leaves[std::size_t(~ref)];
+                if constexpr (takes_lanes<T, LeafFn>) {
+                    if (lane::count(on) <= leaf_lanes_alone) {
+                        for (unsigned bits = lane::bits(on); bits != 0; bits &= bits - 1) {
+                            leaf(l, LaneOf{__builtin_ctz(bits)});
+                            if (!Closest && !lane::any(active)) return true;
+                        }
+                    } else {
+                        leaf(l, on);
+                    }
+                } else {
+                    leaf(l, on);
+                }
+                if (!Closest && !lane::any(active)) return true;
+                limit = farthest();
+            }
+        }
+        for (;;) {
+            if (top == 0) return true;
+            --top;
+            if (!(stack[top].t > grow(limit))) break;
+        }
+        parent = stack[top].node, slot = stack[top].slot;
+        ref = bvh.nodes[std::size_t(parent)].child[slot];
+    }
+}
+
+}  // namespace detail
+
+}  // namespace OCTRAY_BVH_ISA
+}  // namespace octray::bvh
