@@ -148,7 +148,7 @@ def check_dependencies(root, generated):
     # Every find_package / pkg_check_modules of the build, with its version.
     found = set()
     cmake_files = ["CMakeLists.txt", "tests/CMakeLists.txt", "bench/CMakeLists.txt", "fuzz/CMakeLists.txt",
-                   "examples/CMakeLists.txt"]
+                   "examples/CMakeLists.txt", "python/CMakeLists.txt"]
     for rel in cmake_files:
         for line in read(root, rel).splitlines():
             code = line.split("#")[0]
