@@ -223,6 +223,10 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
             push_triangle(s.triangles, reference::mesh_triangle(mesh, k));
         }
     }
+    // Spheres and triangles: a whole packet width past the last one too, as a
+    // leaf's run loads 8 from its start (test_run; lanes past the run are off).
+    for (Floats* f : {&s.spheres.cx, &s.spheres.cy, &s.spheres.cz, &s.spheres.inv_radius, &s.spheres.radius})
+        f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
     pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.inv_radius, s.spheres.radius);
     pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
     pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);
@@ -230,7 +234,6 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     pad(r.cx, r.cy, r.cz, r.nx, r.ny, r.nz, r.dual_ax, r.dual_ay, r.dual_az, r.dual_bx, r.dual_by, r.dual_bz);
     pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
     auto& t = s.triangles;
-    // A whole packet width past the last triangle: a leaf's run loads 8 from its start.
     for (Floats* f : {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz})
         f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
     pad(t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz, t.nx, t.ny, t.nz);
