@@ -1,0 +1,1 @@
+// tests/test_model_ply.cpp — read_ply (io/ply_reader.cpp). Being written.
