@@ -1,11 +1,12 @@
-// io/model_loader.hpp — triangle meshes from model files (glTF 2.0, OBJ, PLY), read
-// with assimp, for the scene JSON's "mesh" object (docs/scene-format.md, "Meshes").
+// io/model_loader.hpp — triangle meshes from model files (glTF 2.0, OBJ, PLY) for the
+// scene JSON's "mesh" object (docs/scene-format.md, "Meshes").
 //
 // load_model() reads every triangle of a file (polygons triangulated, glTF node transforms
 // applied first), applies a MeshTransform in double, checks the result and returns an
 // indexed triangle list. Every problem is a ModelError with a short lower-case message of
-// what is wrong; the caller adds the scene file and the JSON path. Nothing here parses a
-// model file by hand: assimp reads, this file checks and converts.
+// what is wrong; the caller adds the scene file and the JSON path. The readers, one per
+// format, are in model_formats.hpp: tinygltf, tinyobjloader and octray's own PLY reader,
+// all compiled into octray's units so the sanitizer and fuzz builds see into them.
 #pragma once
 
 #include <octray/scene.hpp>
@@ -30,14 +31,12 @@ public:
 using Matrix4d = std::array<double, 16>;
 
 // Limits, checked before anything of their size is built:
-// - each file that assimp opens for a model (the model itself, a glTF .bin, an OBJ .mtl)
-//   may be at most kMaxModelFileBytes; a larger one is refused unread.
+// - each file read for a model (the model itself, a glTF's external buffers) may be at
+//   most kMaxModelFileBytes; a larger one is refused unread. OBJ material libraries and
+//   images are never opened.
 // - a model may have at most kMaxModelTriangles triangles, counted after glTF instancing
 //   (a mesh used by n nodes counts n times) and before degenerate ones are dropped: a
 //   scene's limit on primitives (scene.hpp), since a larger model could not be compiled.
-// Memory is the real cost: loading a 4.2-million-triangle binary PLY (height_field(1448),
-// 80 MB) peaked at 590 MB resident, about 140 bytes a triangle, most of it assimp's; at
-// the triangle limit that is about 2.4 GB.
 inline constexpr std::uint64_t kMaxModelFileBytes = std::uint64_t(2) << 30;  // 2 GiB
 inline constexpr std::uint64_t kMaxModelTriangles = kMaxPrimitives;
 
@@ -94,13 +93,12 @@ struct MeshData {
 //
 // Throws ModelError, for example: "cannot open: No such file or directory",
 // "unknown model format '.stl' (expected .gltf, .glb, .obj or .ply)",
-// "unsupported or unreadable model file: <assimp's message>",
-// "vertex 12 is not finite: (nan, 0, 1)", "index 99 out of range (40 vertices)",
-// "no triangles", "too many triangles: ... (limit 67108864)", "transform: scale: ...".
-// Assimp's logging is silenced (see model_loader.cpp).
+// "unreadable glTF: <what is wrong>", "vertex 12 is not finite: (nan, 0, 1)",
+// "face 3: index 99 out of range (40 vertices)", "no triangles",
+// "too many triangles: ... (limit 67108864)", "transform: scale: ...".
 MeshData load_model(const std::string& path, const MeshTransform& transform = {});
 
-// Writes `mesh` as a binary little-endian PLY with assimp's exporter. PLY stores float:
+// Writes `mesh` as a binary little-endian PLY. PLY stores float:
 // each vertex is rounded to float, and a vertex that does not fit (non-finite after the
 // rounding) is a ModelError, as is a mesh with no triangle or an index out of range.
 void save_ply(const MeshData& mesh, const std::string& path);

@@ -158,6 +158,8 @@ def check_dependencies(root, generated):
                 found.add(f"find_package({name} {ver})" if ver else f"find_package({name})")
             for mod in re.findall(r"pkg_check_modules\(\w+[^)]*?\s(\w+)\)", code):
                 found.add(f"pkg_check_modules({mod})")
+            for header in re.findall(r"find_path\(\w+\s+([\w.]+)\)", code):
+                found.add(f"find_path({header})")
     m = re.search(r"cmake_minimum_required\(VERSION ([\d.]+)\)", read(root, "CMakeLists.txt"))
     if m:
         found.add(f"cmake_minimum_required(VERSION {m.group(1)})")

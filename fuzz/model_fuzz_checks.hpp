@@ -1,18 +1,16 @@
-// fuzz/model_loader_fuzz.cpp — the model loader (io/model_loader.hpp) on any bytes.
+// fuzz/model_fuzz_checks.hpp — what the three model-file fuzz targets (ply_fuzz.cpp,
+// obj_fuzz.cpp, gltf_fuzz.cpp) check after their reader, shared.
 //
-// The input is one model file. Its format comes from its first bytes, as a model's own
-// magic would say: "glTF" -> .glb, "ply" -> .ply, '{' -> .gltf, anything else -> .obj;
-// so real model files are seeds as they are. The bytes are written to a scratch file and
-// read by load_model(), which talks to assimp through its guards.
-//
-// The loader's promise: a MeshData or a ModelError whose what() is one line. Anything else
-// is a bug: another exception type, a crash, a sanitizer report in octray's code, a hang.
-// A MeshData must keep its invariants (indices in range, three per triangle, finite
-// vertices, each used, no zero-area triangle, within the triangle limit), pass validate()
-// as a scene's mesh, and trace through every stage of the SIMD and scalar kernels within
-// the numerical policy (tests/kernel_checks.hpp).
+// A reader's promise (io/model_formats.hpp): a RawModel or a ModelError whose what() is
+// one line. Anything else is a bug: another exception type, a crash, a sanitizer report,
+// a hang. What collect_model makes of a RawModel must keep MeshData's invariants (indices
+// in range, three per triangle, finite vertices, each used, no zero-area triangle, within
+// the triangle limit), pass validate() as a scene's mesh, and trace through every stage of
+// the SIMD and scalar kernels within the numerical policy (tests/kernel_checks.hpp).
+#pragma once
+
 #include "kernel_checks.hpp"
-#include "model_loader.hpp"
+#include "model_formats.hpp"
 
 #include <octray/scene.hpp>
 
@@ -22,43 +20,17 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <filesystem>
-#include <fstream>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
-namespace {
+namespace model_fuzz {
 
-[[noreturn]] void bug(const std::string& what) {
-    std::fprintf(stderr, "model_loader_fuzz: %s\n", what.c_str());
+[[noreturn]] inline void bug(const std::string& what) {
+    std::fprintf(stderr, "model fuzz: %s\n", what.c_str());
     std::abort();
 }
 
-// One scratch directory per process, removed at exit.
-struct ScratchDir {
-    std::filesystem::path path;
-    ScratchDir() {
-        std::string pattern = (std::filesystem::temp_directory_path() / "octray_model_fuzz.XXXXXX").string();
-        if (!mkdtemp(pattern.data())) bug("cannot create a scratch directory");
-        path = pattern;
-    }
-    ~ScratchDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path, ec);
-    }
-};
-
-const char* extension_of(const std::uint8_t* data, std::size_t size) {
-    const std::string head(reinterpret_cast<const char*>(data), std::min<std::size_t>(size, 4));
-    if (head == "glTF") return ".glb";
-    if (head.rfind("ply", 0) == 0) return ".ply";
-    const std::size_t first = std::string(head).find_first_not_of(" \t\r\n");
-    if (first != std::string::npos && head[first] == '{') return ".gltf";
-    return ".obj";
-}
-
-void check_mesh(const octray::MeshData& m) {
+inline void check_mesh(const octray::MeshData& m) {
     using namespace octray;
     if (m.indices.size() % 3 != 0) bug("indices not three per triangle");
     if (m.triangle_count() == 0) bug("a MeshData without triangles");
@@ -84,7 +56,7 @@ void check_mesh(const octray::MeshData& m) {
 // The mesh in front of a pinhole camera that sees all of it, lit by a directional light
 // with shadows; or no scene when the mesh's extent overflows a double (a camera there
 // would not be finite, which validate() rightly rejects).
-bool scene_of(octray::MeshData&& data, octray::Scene& scene) {
+inline bool scene_of(octray::MeshData&& data, octray::Scene& scene) {
     using namespace octray;
     Vec3d lo = data.vertices[0], hi = lo;
     for (const Vec3d& p : data.vertices)
@@ -112,37 +84,34 @@ bool scene_of(octray::MeshData&& data, octray::Scene& scene) {
     return true;
 }
 
-}  // namespace
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    static const ScratchDir scratch;
-    const std::filesystem::path file = scratch.path / (std::string("model") + extension_of(data, size));
-    {
-        std::ofstream out(file, std::ios::binary | std::ios::trunc);
-        out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
-        if (!out) bug("cannot write " + file.string());
-    }
-    octray::MeshData mesh;
+// One input through `read` (a reader of model_formats.hpp) and everything after it.
+template <class Read>
+int run(Read read, const char* format) {
+    using namespace octray;
+    MeshData mesh;
     try {
-        mesh = octray::load_model(file.string());
-    } catch (const octray::ModelError& e) {
+        const model_formats::RawModel raw = read();
+        mesh = model_formats::collect_model(raw, MeshTransform{}.to_matrix(), format);
+    } catch (const ModelError& e) {
         const std::string what = e.what();
         if (what.empty() || what.find('\n') != std::string::npos) bug("error message is not one line: " + what);
         return 0;
     } catch (const std::exception& e) {
-        bug(std::string("load_model threw something other than ModelError: ") + e.what());
+        bug(std::string("the reader threw something other than ModelError: ") + e.what());
     }
     check_mesh(mesh);
-    octray::Scene scene;
+    Scene scene;
     if (!scene_of(std::move(mesh), scene)) return 0;
     try {
-        octray::validate(scene);
-    } catch (const octray::InvalidScene& e) {
+        validate(scene);
+    } catch (const InvalidScene& e) {
         // A mesh far smaller than its distance from the origin leaves the camera
-        // degenerate in double: the harness's camera, not the loader, is at fault.
+        // degenerate in double: the harness's camera, not the reader, is at fault.
         if (e.path().rfind("camera.", 0) == 0) return 0;
         bug(std::string("a loaded mesh fails validate(): ") + e.what());
     }
-    if (const std::string e = octray::test::trace_camera_tiles(scene); !e.empty()) bug(e);
+    if (const std::string e = test::trace_camera_tiles(scene); !e.empty()) bug(e);
     return 0;
 }
+
+}  // namespace model_fuzz
