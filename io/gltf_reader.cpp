@@ -92,7 +92,7 @@ std::string_view json_part(std::string_view bytes, bool binary) {
     std::memcpy(&version, bytes.data() + 4, 4);
     std::memcpy(&chunk_length, bytes.data() + 12, 4);
     std::memcpy(&chunk_type, bytes.data() + 16, 4);
-    if (version != 2) throw ModelError("glTF " + std::to_string(version) + " binary is not supported (glTF 2.0 only)");
+    if (version != 2) throw ModelError("glTF " + std::to_string(version) + ".0 binary is not supported (glTF 2.0 only)");
     if (chunk_type != 0x4E4F534Au) unreadable("the first chunk of the .glb is not JSON");
     if (chunk_length > bytes.size() - 20) unreadable("the JSON chunk runs past the end of the file");
     return bytes.substr(20, chunk_length);

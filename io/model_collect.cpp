@@ -14,7 +14,7 @@ using namespace model_math;
 void RawModel::instance_each_mesh() {
     instances.clear();
     instances.reserve(meshes.size());
-    for (std::size_t m = 0; m < meshes.size(); ++m) instances.push_back(RawInstance{static_cast<std::uint32_t>(m), {}});
+    for (std::size_t m = 0; m < meshes.size(); ++m) instances.push_back(RawInstance{static_cast<std::uint32_t>(m)});  // identity
 }
 
 std::string mesh_prefix(const RawModel& model, std::size_t m) {

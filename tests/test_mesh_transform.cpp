@@ -83,9 +83,11 @@ TEST_CASE("MeshTransform: the matrix form equals the translate/rotate/scale form
         CHECK(a.vertices[i].y == b.vertices[i].y);
         CHECK(a.vertices[i].z == b.vertices[i].z);
     }
-    CHECK(a.vertices[0].x == 2 * 0.3f + 1.0);  // vertex 0 (0.1, 0.2, 0.3) as float, then mapped
-    CHECK(a.vertices[0].y == 2 * 0.2f + 2.0);
-    CHECK(a.vertices[0].z == -2 * 0.1f + 3.0);
+    // Vertex 0 (0.1, 0.2, 0.3) as read in double (tinyobjloader's parser is within an ulp
+    // of the nearest double), then mapped.
+    CHECK(a.vertices[0].x == doctest::Approx(2 * 0.3 + 1.0).epsilon(1e-15));
+    CHECK(a.vertices[0].y == doctest::Approx(2 * 0.2 + 2.0).epsilon(1e-15));
+    CHECK(a.vertices[0].z == doctest::Approx(-2 * 0.1 + 3.0).epsilon(1e-15));
 
     // A general one: the matrix of the TRS form, given as a matrix, maps every vertex alike.
     const MeshTransform general = MeshTransform::from_trs({-4, 0.5, 2}, {12.5, -70, 200}, 0.3);
