@@ -177,6 +177,11 @@ Header parse_header(std::string_view bytes) {
         const std::string where = "header line " + std::to_string(line_no) + ": ";
         auto bad_line = [&]() { return ModelError("bad header line " + std::to_string(line_no) + ": " + quote(line)); };
         if (t.empty() || t[0] == "comment" || t[0] == "obj_info") continue;
+        // Names are quoted raw in later messages: a control character (a NUL cuts what()
+        // short) makes the line bad here (found by fuzz/ply_fuzz.cpp).
+        for (const std::string_view token : t)
+            for (const char c : token)
+                if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) throw bad_line();
         if (t[0] == "end_header") {
             if (t.size() != 1) throw bad_line();
             break;
