@@ -525,12 +525,8 @@ RawModel read_gltf(std::string_view bytes, bool binary, const std::filesystem::p
             for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.emplace_back(*c, global);
         }
         return out;
-    } catch (const ModelError&) {
-        throw;
-    } catch (const std::bad_alloc&) {
-        throw ModelError("out of memory reading the model");
-    } catch (const std::exception& e) {
-        unreadable(e.what());
+    } catch (...) {
+        rethrow_as_model_error("glTF");
     }
 }
 

@@ -5,6 +5,7 @@
 #include "model_math.hpp"
 
 #include <cstring>
+#include <new>
 #include <unordered_map>
 
 namespace octray::model_formats {
@@ -22,6 +23,18 @@ std::string mesh_prefix(const RawModel& model, std::size_t m) {
     std::string p = "mesh " + std::to_string(m);
     if (!model.meshes[m].name.empty()) p += " '" + model.meshes[m].name + "'";
     return p + ": ";
+}
+
+void rethrow_as_model_error(const char* format) {
+    try {
+        throw;
+    } catch (const ModelError&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw ModelError("out of memory reading the model");
+    } catch (const std::exception& e) {
+        throw ModelError(std::string("unreadable ") + format + ": " + e.what());
+    }
 }
 
 namespace {

@@ -62,6 +62,10 @@ RawModel read_gltf(std::string_view bytes, bool binary, const std::filesystem::p
 // dropped and counted; kMaxModelTriangles checked before anything is built.
 MeshData collect_model(const RawModel& model, const Matrix4d& user, const char* format);
 
+// Called in a reader's catch (...): a ModelError goes on as it is, std::bad_alloc becomes
+// "out of memory reading the model", any other std::exception "unreadable <format>: ...".
+[[noreturn]] void rethrow_as_model_error(const char* format);
+
 // "mesh 2 'wheel': " when the model has several meshes, else "".
 std::string mesh_prefix(const RawModel& model, std::size_t m);
 

@@ -436,12 +436,8 @@ RawModel read_obj(std::string_view bytes) {
         if (face != pre.face_sizes.size()) broken("face count");
         model.instance_each_mesh();
         return model;
-    } catch (const ModelError&) {
-        throw;
-    } catch (const std::bad_alloc&) {
-        throw ModelError("out of memory reading the model");
-    } catch (const std::exception& e) {
-        throw ModelError(std::string("unreadable OBJ: ") + e.what());
+    } catch (...) {
+        rethrow_as_model_error("OBJ");
     }
 }
 
