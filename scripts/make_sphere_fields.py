@@ -17,7 +17,7 @@ every centre is written as the float it rounds to. A pinhole camera's rays
 are rounded (about 1u of angle, u = 2^-24), which moves the hit on a sphere
 of radius R at distance t by ~u t and its normal by ~u t / (R cos): the
 input term of precision.hpp's bound, which no kernel can remove. The
-pinhole_field* scenes are such fields through pinhole cameras (the issue's
+pinhole_field* scenes are such fields through pinhole cameras (docs/accuracy.md's
 20,000 spheres r = 0.04 at 10-14 units, fov 42; 4,000 r = 1e-3 at 100 units,
 fov 3; a 100-degree wide angle; shadows on; point lights among the spheres):
 `octray verify --packet-rays` checks them with that input left out.
@@ -164,7 +164,7 @@ SCENES = {
     # radius 1e-3, 100-105 units: 128 x 64 pixels over 0.125 x 0.0625 (a pixel ~ half a diameter).
     "sphere_field_far": lambda: orthographic(*field(20000, 1e-3, (-0.0625, -0.03125), (0.0625, 0.03125), 100, 105, seed=17),
                                              128, 64, 0.0625),
-    # The pinhole fields: default.json's camera (fov 42) and a 3-degree telephoto at 100 units.
+    # The pinhole fields of docs/accuracy.md: default.json's camera (fov 42) and a 3-degree telephoto at 100 units.
     "pinhole_field": lambda: pinhole_field(20000, 0.04, 10, 14, 42, seed=18),
     "pinhole_field_far": lambda: pinhole_field(4000, 1e-3, 100, 100.05, 3, seed=19),
     # Variants: a wide angle (100 degrees: rays up to 60 degrees off axis), shadows from every light,

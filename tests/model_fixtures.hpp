@@ -1,7 +1,8 @@
 // tests/model_fixtures.hpp — what the model-file tests (test_model_loader.cpp,
-// test_model_files.cpp, test_mesh_transform.cpp, test_mesh_generators.cpp)
-// share: where assimp-testmodels is, a temporary folder for files the tests
-// write, the ModelError of a load, and bounding boxes.
+// test_model_files.cpp, test_model_ply*.cpp, test_model_obj.cpp,
+// test_mesh_transform.cpp, test_mesh_generators.cpp) share: where assimp-testmodels
+// is, a temporary folder for files the tests write, the ModelError of a read or a
+// load, and bounding boxes.
 //
 // Real models come from Debian's assimp-testmodels (OCTRAY_ASSIMP_MODELS, found at
 // configure time; tools/install-deps installs it). Broken files are written by the
@@ -68,6 +69,18 @@ struct TempDir {
 inline std::string read_bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The ModelError message of read(bytes), one of model_formats' readers, or "" when it
+// reads; any other exception fails the test where it is thrown.
+template <class Reader>
+std::string read_error(Reader read, const std::string& bytes) {
+    try {
+        read(bytes);
+    } catch (const ModelError& e) {
+        return e.what();
+    }
+    return "";
 }
 
 // The ModelError message of load_model(path, t), or "" when it loads.

@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include "model_fixtures.hpp"
 #include "model_formats.hpp"
 
 #include <array>
@@ -34,15 +35,8 @@ std::vector<Tri> triangles_of(const RawMesh& m) {
 bool same(const Vec3d& a, const Vec3d& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 bool same(const Tri& a, const Tri& b) { return same(a[0], b[0]) && same(a[1], b[1]) && same(a[2], b[2]); }
 
-// The ModelError message of reading `text`, or "" when it reads; any other exception fails.
-std::string error_of(const std::string& text) {
-    try {
-        read_obj(text);
-    } catch (const ModelError& e) {
-        return e.what();
-    }
-    return "";
-}
+// The ModelError message of reading `text`, or "" when it reads.
+std::string error_of(const std::string& text) { return model_fixtures::read_error(read_obj, text); }
 
 std::size_t triangle_total(const RawModel& m) {
     std::size_t n = 0;
