@@ -145,19 +145,13 @@ OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Ray<T, P>& r, Mask<
     }
 }
 
-template <class T, Precision P, unsigned F>
-inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
-    Closest<T> best{r.tmax, T(-1)};
+// The bounded primitives' part of closest_hit, templated on those types alone
+// (B = bounded_bits(F)): kernels that differ only in planes share one walk,
+// which keeps the number of walk instantiations, and the build, in check.
+template <class T, Precision P, unsigned B>
+inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& best) {
     LaneRay<T, P> lanes(r);
-    if constexpr ((F & kPlane) != 0) {
-        const int base = s.offset[int(PrimitiveType::plane)];
-        for (int k = 0; k < s.count[int(PrimitiveType::plane)]; ++k) {
-            Mask<T> hit;
-            const T t = test_primitive<PrimitiveType::plane, T, P>(s, k, r, hit, best.t);
-            best.take(hit, t, base + k);
-        }
-    }
-    for_each_candidate<true, F>(s, r, r.valid, best.t, [&](auto tag, int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, B>(s, r, r.valid, best.t, [&](auto tag, int k) OCTRAY_HOT_LAMBDA {
         constexpr PrimitiveType type = decltype(tag)::value;
         Mask<T> hit;
         if constexpr (type == PrimitiveType::sphere) {
@@ -190,6 +184,20 @@ inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
                 best.take(alone, tbest, s.offset[int(type)] + k0 + j + first);
         }
     });
+}
+
+template <class T, Precision P, unsigned F>
+inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
+    Closest<T> best{r.tmax, T(-1)};
+    if constexpr ((F & kPlane) != 0) {
+        const int base = s.offset[int(PrimitiveType::plane)];
+        for (int k = 0; k < s.count[int(PrimitiveType::plane)]; ++k) {
+            Mask<T> hit;
+            const T t = test_primitive<PrimitiveType::plane, T, P>(s, k, r, hit, best.t);
+            best.take(hit, t, base + k);
+        }
+    }
+    if constexpr (bounded_bits(F) != 0) closest_bounded<T, P, bounded_bits(F)>(s, r, best);
     return best;
 }
 
