@@ -1,4 +1,5 @@
 // kernels/dispatch.cpp — run-time choice of ISA and feature variant.
+#include "cpu_support.hpp"
 #include "isa_kernels.hpp"
 
 #include <octray/kernels.hpp>
@@ -7,14 +8,9 @@
 
 namespace octray {
 
-bool simd_supported() {
-    // The AVX2 units also use FMA; both must be there.
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-}
+bool simd_supported() { return cpu::runs_avx2_fma(); }
 
-bool avx512_supported() {
-    return simd_supported() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
-}
+bool avx512_supported() { return cpu::runs_avx512(); }
 
 bool precision_supported(Precision precision) { return !needs_avx512(precision) || avx512_supported(); }
 
@@ -42,13 +38,16 @@ Kernel make(Path path, Precision precision, unsigned primitive_bits, unsigned li
     // Without AVX2 the SIMD path becomes the baseline scalar one (Kernel::isa "generic").
     if (!simd_supported()) path = Path::scalar;
     // The asked ISA if this CPU runs it and it compiles the mode (generic:
-    // the scalar path only); else the best.
-    for (const bool pinned : {isa != Isa::best, false}) {
-        for (int i = 0; i < kernels::kUnitCount; ++i) {
-            const kernels::Unit& u = kernels::kUnits[i];
-            if (u.path == path && (u.modes & kernels::mode_bit(precision)) != 0 && u.supported() &&
-                (!pinned || std::string_view(u.isa) == isa_name(isa)))
-                return u.kernel(precision, primitive_bits, light_bits);
+    // the scalar path only); else the best. A build with this CPU's units
+    // left out (OCTRAY_ISAS=host, run on another machine) gets the scalar path.
+    for (const Path p : {path, Path::scalar}) {
+        for (const bool pinned : {isa != Isa::best, false}) {
+            for (int i = 0; i < kernels::kUnitCount; ++i) {
+                const kernels::Unit& u = kernels::kUnits[i];
+                if (u.path == p && (u.modes & kernels::mode_bit(precision)) != 0 && u.supported() &&
+                    (!pinned || std::string_view(u.isa) == isa_name(isa)))
+                    return u.kernel(precision, primitive_bits, light_bits);
+            }
         }
     }
     return kernels::generic_scalar_kernel(Precision::exact, kAllFeatures, kAllFeatures);  // not reached
