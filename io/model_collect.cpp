@@ -4,9 +4,10 @@
 
 #include "model_math.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <new>
-#include <unordered_map>
+#include <vector>
 
 namespace octray::model_formats {
 
@@ -48,14 +49,6 @@ struct PositionKey {
     std::uint64_t x, y, z;
     bool operator==(const PositionKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
-struct PositionKeyHash {
-    std::size_t operator()(const PositionKey& k) const {
-        std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
-        h ^= (k.y + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2)) * 0xC2B2AE3D27D4EB4Full;
-        h ^= (k.z + 0x165667B19E3779F9ull + (h << 6) + (h >> 2)) * 0x9E3779B97F4A7C15ull;
-        return static_cast<std::size_t>(h ^ (h >> 29));
-    }
-};
 PositionKey key_of(const Vec3d& p) {
     auto bits = [](double v) {
         v += 0.0;  // -0 and +0 are one position
@@ -65,6 +58,55 @@ PositionKey key_of(const Vec3d& p) {
     };
     return {bits(p.x), bits(p.y), bits(p.z)};
 }
+
+std::uint64_t hash_of(const PositionKey& k) {
+    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h ^= (k.y + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2)) * 0xC2B2AE3D27D4EB4Full;
+    h ^= (k.z + 0x165667B19E3779F9ull + (h << 6) + (h >> 2)) * 0x9E3779B97F4A7C15ull;
+    return h ^ (h >> 29);
+}
+
+// The output's vertices, one per position (compared by key_of's bits): an
+// open-addressing table of indices into them, linear probing, at most half
+// full. A node-based map cost an allocation per vertex, most of a large
+// model's load.
+class SharedVertices {
+  public:
+    SharedVertices(std::vector<Vec3d>& vertices, std::size_t expected) : vertices_(vertices) {
+        std::size_t size = 16;
+        while (size < 2 * expected) size *= 2;
+        slots_.assign(size, kEmpty);
+    }
+    // The index of p among the vertices, appended when its position is new.
+    std::uint32_t index_of(const Vec3d& p) {
+        if (2 * (vertices_.size() + 1) > slots_.size()) grow();
+        const PositionKey key = key_of(p);
+        const std::size_t mask = slots_.size() - 1;
+        for (std::size_t i = hash_of(key) & mask;; i = (i + 1) & mask) {
+            const std::uint32_t s = slots_[i];
+            if (s == kEmpty) {
+                slots_[i] = static_cast<std::uint32_t>(vertices_.size());
+                vertices_.push_back(p);
+                return slots_[i];
+            }
+            if (key_of(vertices_[s]) == key) return s;
+        }
+    }
+
+  private:
+    static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
+    void grow() {
+        slots_.assign(slots_.size() * 2, kEmpty);
+        const std::size_t mask = slots_.size() - 1;
+        for (std::uint32_t v = 0; v < vertices_.size(); ++v) {
+            std::size_t i = hash_of(key_of(vertices_[v])) & mask;
+            while (slots_[i] != kEmpty) i = (i + 1) & mask;
+            slots_[i] = v;
+        }
+    }
+    std::vector<Vec3d>& vertices_;
+    std::vector<std::uint32_t> slots_;
+};
 
 // The raw meshes' own checks, before anything is built: indices in range (each reader
 // promises it; checked again here, cheaply, as the last wall), the vertices of every mesh
@@ -101,15 +143,29 @@ MeshData collect_model(const RawModel& model, const Matrix4d& user, const char* 
     check_raw(model);
     MeshData out;
     out.format = format;
-    std::unordered_map<PositionKey, std::uint32_t, PositionKeyHash> shared;
+    // An instance costs its mesh's triangles, never its vertex count: the
+    // per-vertex state is allocated once, for the largest mesh, and only the
+    // vertices an instance touched are reset after it (a mesh of many vertices
+    // and few triangles, used by many nodes, stays cheap).
+    std::size_t positions = 0, indices = 0, largest = 0;
+    for (const RawInstance& use : model.instances) {
+        const RawMesh& mesh = model.meshes[use.mesh];
+        if (mesh.triangles.empty()) continue;
+        positions += mesh.positions.size();
+        indices += mesh.triangles.size();
+        largest = std::max(largest, mesh.positions.size());
+    }
+    out.indices.reserve(indices);
+    SharedVertices shared(out.vertices, std::min(positions, indices));
     constexpr std::uint32_t kUnset = 0xFFFFFFFFu;
+    std::vector<std::uint32_t> remap(largest, kUnset);
+    std::vector<Vec3d> moved(largest);
+    std::vector<bool> done(largest, false);
+    std::vector<std::uint32_t> touched;
     for (const RawInstance& use : model.instances) {
         const RawMesh& mesh = model.meshes[use.mesh];
         if (mesh.triangles.empty()) continue;
         const Matrix4d m = multiply(user, use.transform);
-        std::vector<std::uint32_t> remap(mesh.positions.size(), kUnset);
-        std::vector<Vec3d> moved(mesh.positions.size());
-        std::vector<bool> done(mesh.positions.size(), false);
         auto position = [&](std::uint32_t v) -> const Vec3d& {
             if (!done[v]) {
                 moved[v] = transform_point(m, mesh.positions[v]);
@@ -117,6 +173,7 @@ MeshData collect_model(const RawModel& model, const Matrix4d& user, const char* 
                     throw ModelError(mesh_prefix(model, use.mesh) + "vertex " + std::to_string(v) +
                                      " is not finite after the transform: " + vec_str(moved[v]));
                 done[v] = true;
+                touched.push_back(v);
             }
             return moved[v];
         };
@@ -132,15 +189,15 @@ MeshData collect_model(const RawModel& model, const Matrix4d& user, const char* 
             }
             for (unsigned k = 0; k < 3; ++k) {
                 const std::uint32_t v = tri[k];
-                if (remap[v] == kUnset) {
-                    const auto [it, added] =
-                        shared.emplace(key_of(moved[v]), static_cast<std::uint32_t>(out.vertices.size()));
-                    if (added) out.vertices.push_back(moved[v]);
-                    remap[v] = it->second;
-                }
+                if (remap[v] == kUnset) remap[v] = shared.index_of(moved[v]);
                 out.indices.push_back(remap[v]);
             }
         }
+        for (const std::uint32_t v : touched) {
+            done[v] = false;
+            remap[v] = kUnset;
+        }
+        touched.clear();
     }
     if (out.indices.empty())
         throw ModelError("no triangles (all " + std::to_string(out.dropped_degenerate) + " have zero area)");
