@@ -23,6 +23,7 @@
 #include <iterator>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace model_fixtures {
 
@@ -69,6 +70,17 @@ struct TempDir {
 inline std::string read_bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The same positions, exactly, in the same order.
+inline void check_positions(const std::vector<Vec3d>& got, const std::vector<Vec3d>& want) {
+    REQUIRE(got.size() == want.size());
+    for (std::size_t v = 0; v < want.size(); ++v) {
+        CAPTURE(v);
+        CHECK(got[v].x == want[v].x);
+        CHECK(got[v].y == want[v].y);
+        CHECK(got[v].z == want[v].z);
+    }
 }
 
 // The ModelError message of read(bytes), one of model_formats' readers, or "" when it

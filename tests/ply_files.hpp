@@ -126,13 +126,7 @@ inline void check_mesh(const RawModel& m, const std::vector<Vec3d>& positions, c
     CHECK(m.instances[0].mesh == 0);
     CHECK(m.meshes[0].name.empty());
     const RawMesh& mesh = m.meshes[0];
-    REQUIRE(mesh.positions.size() == positions.size());
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-        CAPTURE(v);
-        CHECK(mesh.positions[v].x == positions[v].x);
-        CHECK(mesh.positions[v].y == positions[v].y);
-        CHECK(mesh.positions[v].z == positions[v].z);
-    }
+    model_fixtures::check_positions(mesh.positions, positions);
     CHECK(mesh.triangles == triangles);
 }
 

@@ -1,6 +1,7 @@
 // tests/test_model_collect.cpp — collect_model (io/model_collect.cpp), the common tail of
 // every model reader: instances transformed in double, vertices shared by exact position
 // in first-use order, and an instance's cost bounded by its mesh's triangles.
+#include "model_fixtures.hpp"
 #include "model_formats.hpp"
 
 #include <doctest/doctest.h>
@@ -23,13 +24,7 @@ TEST_CASE("collect_model: instances share vertices by position, in first-use ord
     const MeshData m = collect_model(model, RawInstance{}.transform, "test");
     // 4 + 2 new vertices; the third instance repeats the first one's.
     const std::vector<Vec3d> want = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 1, 0}};
-    REQUIRE(m.vertices.size() == want.size());
-    for (std::size_t v = 0; v < want.size(); ++v) {
-        CAPTURE(v);
-        CHECK(m.vertices[v].x == want[v].x);
-        CHECK(m.vertices[v].y == want[v].y);
-        CHECK(m.vertices[v].z == want[v].z);
-    }
+    model_fixtures::check_positions(m.vertices, want);
     CHECK(m.indices == std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3, 1, 4, 5, 1, 5, 2, 0, 1, 2, 0, 2, 3});
 }
 
