@@ -176,7 +176,7 @@ OcclusionRays& occlusion_rays() {
         o.packets.resize(first + std::size_t(samples));
         for (int k = 0; k < samples; ++k) {
             RayPacket8& r = o.packets[first + std::size_t(k)];
-            std::memset(&r, 0, sizeof r);
+            r = RayPacket8{};
             std::copy(cam.pixel, cam.pixel + kPacketWidth, r.pixel);
         }
         for (int i = 0; i < kPacketWidth; ++i) {

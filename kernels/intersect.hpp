@@ -201,16 +201,25 @@ inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
     return best;
 }
 
+// The normal of compiled spheres hit by r (their data read through `at`),
+// with the ray's residuals and the centres' (SphereArrays::cx_lo).
+template <class T, Precision P>
+inline Vec3<T> compiled_sphere_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, P>& r,
+                                      const RayResidual<T>& res, const Mask<T>& near) {
+    const SphereArrays& a = s.spheres;
+    const Vec3<T> f_lo = a.cx_lo.empty() ? res.o : res.o - at(a.cx_lo, a.cy_lo, a.cz_lo);
+    return sphere_normal(r, at(a.cx, a.cy, a.cz), at(a.radius), at(a.inv_radius), near, SphereResidual<T>{f_lo, res.d});
+}
+
 // Unit geometric normal of a primitive of type `Type` at the closest hit
 // `best` of ray r (p = o + t d), its data read through `at` (the lanes'
 // indices within the type). A sphere's comes from its own frame
 // (sphere_normal), not from p; the ray direction breaks ties on box edges.
 template <PrimitiveType Type, class T, Precision P>
-inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, P>& r, const Closest<T>& best,
-                           const Vec3<T>& p) {
+inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, P>& r, const RayResidual<T>& res,
+                           const Closest<T>& best, const Vec3<T>& p) {
     if constexpr (Type == PrimitiveType::sphere) {
-        const SphereArrays& a = s.spheres;
-        return sphere_normal(r, at(a.cx, a.cy, a.cz), at(a.radius), at(a.inv_radius), best.near);
+        return compiled_sphere_normal(s, at, r, res, best.near);
     } else if constexpr (Type == PrimitiveType::plane) {
         return at(s.planes.nx, s.planes.ny, s.planes.nz);
     } else if constexpr (Type == PrimitiveType::disk) {
@@ -246,8 +255,8 @@ inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Ray<T,
 // type's normal is computed, from its broadcast data; else each type present
 // computes its lanes' normals from gathered data.
 template <class T, Precision P, unsigned F>
-inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, P>& r, const Closest<T>& best,
-                          const Vec3<T>& p, const Mask<T>& hit) {
+inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, P>& r, const RayResidual<T>& res,
+                          const Closest<T>& best, const Vec3<T>& p, const Mask<T>& hit) {
     Vec3<T> n{T(0), T(0), T(1)};
     if (!lane::any(hit)) return n;
     if (at.uniform) {
@@ -256,7 +265,7 @@ inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, 
             constexpr PrimitiveType type = decltype(tag)::value;
             const int base = s.offset[int(type)];
             if (shared >= base && shared < base + count)
-                n = type_normal<type>(s, Lookup<T>::at_index(shared - base), r, best, p);
+                n = type_normal<type>(s, Lookup<T>::at_index(shared - base), r, res, best, p);
         });
         return n;
     }
@@ -266,7 +275,7 @@ inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, 
         const int base = s.offset[int(type)];
         const Mask<T> mine = hit && cid >= T(float(base)) && cid < T(float(base + count));
         if (count == 0 || !lane::any(mine)) return;
-        const Vec3<T> m = type_normal<type>(s, Lookup<T>(lane::keep(mine, cid - T(float(base))), mine), r, best, p);
+        const Vec3<T> m = type_normal<type>(s, Lookup<T>(lane::keep(mine, cid - T(float(base))), mine), r, res, best, p);
         n = {lane::select(mine, m.x, n.x), lane::select(mine, m.y, n.y), lane::select(mine, m.z, n.z)};
     });
     return n;
@@ -281,7 +290,7 @@ inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8&
     const T cid = lane::keep(hit, best.cid);
     const Vec3<T> p = r.o + r.d * best.t;
     const Lookup<T> at(cid, hit);
-    Vec3<T> n = hit_normal<T, P, F>(s, at, r, best, p, hit);
+    Vec3<T> n = hit_normal<T, P, F>(s, at, r, load_residual(rp, lane, r), best, p, hit);
     // Face-forward (two-sided shading): the normal opposes the ray.
     const Mask<T> away = fdot(n, r.d) > T(0);
     n = {lane::select(away, T(0) - n.x, n.x), lane::select(away, T(0) - n.y, n.y), lane::select(away, T(0) - n.z, n.z)};

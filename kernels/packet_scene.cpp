@@ -58,20 +58,20 @@ bvh::Box box_of(const Shape& shape) {
         [&](const auto& p) {
             using P = std::decay_t<decltype(p)>;
             if constexpr (std::is_same_v<P, Sphere>) {
-                const double r = float(p.radius);
-                span(Vec3d(Vec3f(p.center)), Vec3d{r, r, r});
+                const double r = round_to_float(p.radius);
+                span(round_to_float(p.center), Vec3d{r, r, r});
             } else if constexpr (std::is_same_v<P, Disk>) {
-                const double r = std::sqrt(double(float(p.radius * p.radius)));
-                span(Vec3d(Vec3f(p.center)), Vec3d{r, r, r});
+                const double r = std::sqrt(round_to_float(p.radius * p.radius));
+                span(round_to_float(p.center), Vec3d{r, r, r});
             } else if constexpr (std::is_same_v<P, Rectangle>) {
                 lo = hi = p.corner;
                 for (const Vec3d& q : {p.corner + p.a, p.corner + p.b, p.corner + p.a + p.b})
                     lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)},
                     hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
             } else if constexpr (std::is_same_v<P, Box>) {
-                lo = Vec3d(Vec3f(p.min)), hi = Vec3d(Vec3f(p.max));
+                lo = round_to_float(p.min), hi = round_to_float(p.max);
             } else if constexpr (std::is_same_v<P, Triangle>) {
-                const Vec3d a(Vec3f(p.v0)), b(Vec3f(p.v1)), c(Vec3f(p.v2));
+                const Vec3d a = round_to_float(p.v0), b = round_to_float(p.v1), c = round_to_float(p.v2);
                 lo = {std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
                 hi = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
             }
@@ -93,6 +93,7 @@ void append_primitive(SceneData& s, const Shape& shape) {
             if constexpr (std::is_same_v<P, Sphere>) {
                 auto& a = s.spheres;
                 push3(a.cx, a.cy, a.cz, p.center);
+                push3(a.cx_lo, a.cy_lo, a.cz_lo, p.center - round_to_float(p.center));
                 push(a.inv_radius, 1.0 / p.radius);
                 push(a.radius, p.radius);
             } else if constexpr (std::is_same_v<P, Plane>) {
@@ -225,9 +226,16 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     }
     // Spheres and triangles: a whole packet width past the last one too, as a
     // leaf's run loads 8 from its start (test_run; lanes past the run are off).
-    for (Floats* f : {&s.spheres.cx, &s.spheres.cy, &s.spheres.cz, &s.spheres.inv_radius, &s.spheres.radius})
+    SphereArrays& sp = s.spheres;
+    auto is_zero = [](const Floats& f) { return std::all_of(f.begin(), f.end(), [](float x) { return x == 0.0f; }); };
+    if (is_zero(sp.cx_lo) && is_zero(sp.cy_lo) && is_zero(sp.cz_lo)) sp.cx_lo = {}, sp.cy_lo = {}, sp.cz_lo = {};
+    const bool residuals = !sp.cx_lo.empty();
+    for (Floats* f : {&sp.cx, &sp.cy, &sp.cz, &sp.inv_radius, &sp.radius})
         f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
-    pad(s.spheres.cx, s.spheres.cy, s.spheres.cz, s.spheres.inv_radius, s.spheres.radius);
+    if (residuals)
+        for (Floats* f : {&sp.cx_lo, &sp.cy_lo, &sp.cz_lo}) f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
+    pad(sp.cx, sp.cy, sp.cz, sp.inv_radius, sp.radius);
+    if (residuals) pad(sp.cx_lo, sp.cy_lo, sp.cz_lo);
     pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
     pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);
     auto& r = s.rectangles;
@@ -289,12 +297,12 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     const Vec3d w = normalized(c.eye - c.look_at);
     const Vec3d u = normalized(cross(c.up, w));
     const Vec3d v = cross(w, u);
-    auto put = [](float* dst, const Vec3d& x) { dst[0] = float(x.x), dst[1] = float(x.y), dst[2] = float(x.z); };
+    auto put = [](double* dst, const Vec3d& x) { dst[0] = x.x, dst[1] = x.y, dst[2] = x.z; };
     put(pc.eye, c.eye), put(pc.u, u), put(pc.v, v), put(pc.w, w);
     pc.orthographic = c.type == CameraType::orthographic;
     const double half = pc.orthographic ? c.height_world / 2 : std::tan(c.fov_y * kPi / 360.0);
-    pc.scale_y = float(half);
-    pc.scale_x = float(half * c.width / c.height);
+    pc.scale_y = half;
+    pc.scale_x = half * c.width / c.height;
     pc.width = c.width;
     pc.height = c.height;
     return compiled;

@@ -22,7 +22,9 @@
 namespace octray {
 
 // radius: as authored, rounded once (1e6 stays exact; its square would not).
-struct SphereArrays { Floats cx, cy, cz, inv_radius, radius; };
+// cx_lo, cy_lo, cz_lo: the centre's rounding residuals (the authored centre
+// is c + c_lo to ~u^2 |c|), for the normal; empty when every centre is a float.
+struct SphereArrays { Floats cx, cy, cz, inv_radius, radius, cx_lo, cy_lo, cz_lo; };
 struct PlaneArrays { Floats px, py, pz, nx, ny, nz; };
 struct DiskArrays { Floats cx, cy, cz, nx, ny, nz, radius2; };
 // p = corner + s a + t b; s = (p - corner).dual_a, t = (p - corner).dual_b.
@@ -50,8 +52,10 @@ struct OcclusionData {
 
 struct PacketCamera {
     bool orthographic = false;
-    float eye[3]{}, u[3]{}, v[3]{}, w[3]{};
-    float scale_x = 1, scale_y = 1;  // tan(fov/2)*aspect, tan(fov/2)  (or height_world/2 * ...)
+    // In double: camera rays are formed in double and rounded once, their
+    // residuals kept (RayPacket::ox_lo...), as the reference forms them.
+    double eye[3]{}, u[3]{}, v[3]{}, w[3]{};
+    double scale_x = 1, scale_y = 1;  // tan(fov/2)*aspect, tan(fov/2)  (or height_world/2 * ...)
     int width = 0, height = 0;
 };
 

@@ -162,6 +162,14 @@ OCTRAY_HOT T intersect_sphere(const Ray<T, P>& r, const Vec3<T>& center, const S
 }
 
 // ---- the hit in the sphere's frame -------------------------------------------
+// The rounding residuals of a ray and a centre (RayPacket::ox_lo..., a
+// double-float camera's): f = o - c is exactly (o - c in float, with its
+// TwoSum error) + f, the direction d + this d.
+template <class T>
+struct SphereResidual {
+    Vec3<T> f, d;
+};
+
 // p - c at the hit, from the ray's closest approach to the centre rather than
 // from p = o + t d: f = o - c exactly (fh + fl, TwoSum), the foot of the
 // perpendicular q = f - d (f.d)/(d.d), projected out along d a second time
@@ -175,16 +183,27 @@ OCTRAY_HOT T intersect_sphere(const Ray<T, P>& r, const Vec3<T>& center, const S
 // error, a perturbation of the ray by ~u r (precision.hpp derives the bound);
 // from an origin near the surface, h comes from b^2/a - c instead (below).
 // `o`, `c`, `radius`: the same scaling as sphere_roots_scaled, where used.
+// `res`: what the float ray and centre leave out (SphereResidual). The exact
+// f is fh + fl + res.f and the direction d + res.d; to first order the foot
+// of the exact ray is q + res.f + t_foot res.d, less its part along d, which
+// the second projection removes (what is left along the exact direction is
+// ~u r). Without it a pinhole ray's rounding, ~u t at the hit, would turn the
+// normal by ~u t / r. A shift past the radius is no rounding's (a hit that
+// far off is noise) and is dropped: q, so the normal, stays within ~r.
 template <class T, Precision P>
 inline Vec3<T> sphere_offset(const Ray<T, P>& r, const Vec3<T>& o, const Vec3<T>& c, const T& radius,
-                             const Mask<T>& near) {
+                             const Mask<T>& near, const SphereResidual<T>& res) {
     const Vec3<T> fh = o - c;
     const Vec3<T> fl{two_sum_error(o.x, T(0) - c.x, fh.x), two_sum_error(o.y, T(0) - c.y, fh.y),
                      two_sum_error(o.z, T(0) - c.z, fh.z)};
     const T b = fdot(fh, r.d);
-    const T nb_a = b * r.neg_inv_dd;  // -t of the foot; its error moves q along d only
-    Vec3<T> q{lane::fma(r.d.x, nb_a, fh.x) + fl.x, lane::fma(r.d.y, nb_a, fh.y) + fl.y,
-              lane::fma(r.d.z, nb_a, fh.z) + fl.z};
+    const T nb_a = b * r.neg_inv_dd;  // t of the foot; its error moves q along d only
+    Vec3<T> shift{lane::fma(res.d.x, nb_a, res.f.x), lane::fma(res.d.y, nb_a, res.f.y),
+                  lane::fma(res.d.z, nb_a, res.f.z)};
+    const Mask<T> residual = lane::abs(shift.x) + lane::abs(shift.y) + lane::abs(shift.z) <= radius;  // false for NaN
+    shift = {lane::keep(residual, shift.x), lane::keep(residual, shift.y), lane::keep(residual, shift.z)};
+    Vec3<T> q{lane::fma(r.d.x, nb_a, fh.x) + (fl.x + shift.x), lane::fma(r.d.y, nb_a, fh.y) + (fl.y + shift.y),
+              lane::fma(r.d.z, nb_a, fh.z) + (fl.z + shift.z)};
     const T back = fdot(q, r.d) * r.neg_inv_dd;
     q = {lane::fma(r.d.x, back, q.x), lane::fma(r.d.y, back, q.y), lane::fma(r.d.z, back, q.z)};
     const T r2 = radius * radius, r2_lo = lane::fma(radius, radius, T(0) - r2);
@@ -217,9 +236,9 @@ inline Vec3<T> sphere_offset(const Ray<T, P>& r, const Vec3<T>& o, const Vec3<T>
 // scene units (|p - c| = r, a float, so no overflow).
 template <class T, Precision P>
 OCTRAY_COLD Vec3<T> sphere_offset_scaled(const Ray<T, P>& r, const Vec3<T>& center, const T& radius,
-                                         const Mask<T>& near, const Mask<T>& huge) {
+                                         const Mask<T>& near, const Mask<T>& huge, const SphereResidual<T>& res) {
     const T k = lane::select(huge, T(0x1p-72f), T(1)), unscale = lane::select(huge, T(0x1p72f), T(1));
-    return sphere_offset(r, r.o * k, center * k, radius * k, near) * unscale;
+    return sphere_offset(r, r.o * k, center * k, radius * k, near, SphereResidual<T>{res.f * k, res.d}) * unscale;
 }
 
 // Unit geometric normal (outward) at the hit of sphere (center, radius) by r,
@@ -228,11 +247,18 @@ OCTRAY_COLD Vec3<T> sphere_offset_scaled(const Ray<T, P>& r, const Vec3<T>& cent
 // the normal is the same in every precision mode.
 template <class T, Precision P>
 inline Vec3<T> sphere_normal(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, const T& inv_radius,
-                             const Mask<T>& near) {
+                             const Mask<T>& near, const SphereResidual<T>& res) {
     const Vec3<T> f = r.o - center;
     const Mask<T> huge = lane::not_(lane::max(fdot(f, f), radius * radius) <= T(0x1p100f));
-    if (lane::any(huge)) return sphere_offset_scaled(r, center, radius, near, huge) * inv_radius;
-    return sphere_offset(r, r.o, center, radius, near) * inv_radius;
+    if (lane::any(huge)) return sphere_offset_scaled(r, center, radius, near, huge, res) * inv_radius;
+    return sphere_offset(r, r.o, center, radius, near, res) * inv_radius;
+}
+// The same for a ray and centre taken as exact.
+template <class T, Precision P>
+inline Vec3<T> sphere_normal(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, const T& inv_radius,
+                             const Mask<T>& near) {
+    const Vec3<T> zero{T(0), T(0), T(0)};
+    return sphere_normal(r, center, radius, inv_radius, near, SphereResidual<T>{zero, zero});
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA

@@ -13,14 +13,16 @@ are exact in float, so `octray verify` measures the kernels, not the rounding
 of the scene file: the camera frame is axis-aligned, the image width and
 height and the view's half extents are powers of two (every camera ray
 origin and direction is a float, the same in the reference's double), and
-every centre is written as the float it rounds to. A pinhole camera's rays
-are rounded (about 1u of angle, u = 2^-24), which moves the hit on a sphere
-of radius R at distance t by ~u t and its normal by ~u t / (R cos): the
-input term of precision.hpp's bound, which no kernel can remove. The
+every centre is written as the float it rounds to. A pinhole camera's rays,
+rounded to float, are off by about 1u of angle (u = 2^-24), which would move
+the hit on a sphere of radius R at distance t by ~u t and its normal by
+~u t / (R cos); the camera kernel keeps that rounding as a residual and the
+sphere normal takes it in (precision.hpp), as it takes a centre's. The
 pinhole_field* scenes are such fields through pinhole cameras (docs/accuracy.md's
 20,000 spheres r = 0.04 at 10-14 units, fov 42; 4,000 r = 1e-3 at 100 units,
-fov 3; a 100-degree wide angle; shadows on; point lights among the spheres):
-`octray verify --packet-rays` checks them with that input left out.
+fov 3; a 100-degree wide angle; shadows on; point lights among the spheres;
+the first two with centres written to 4 and 7 decimals): `octray verify`
+checks them at its unchanged tolerance.
 
 --report DIR writes the scenes of the first report of sphere-normal errors at
 distance, as a new user would make
@@ -109,12 +111,14 @@ def report_scenes(outdir):
 
 
 def pinhole_field(count, radius, near, far, fov, seed, eye=(0, 2.4, 8), look_at=(0, 0.8, 0), width=320, height=240,
-                  shadows=False, close_lights=False):
+                  shadows=False, close_lights=False, decimals=None):
     """count spheres of the given radius in the view of a pinhole camera with
     vertical field of view `fov` (degrees) at eye, looking at look_at: the
     centres uniform over the frustum between `near` and `far` units along
     the view axis (within 90% of its half extents), written as the floats
-    they round to (the camera's rays are then the only rounded input).
+    they round to (the camera's rays are then the only rounded input), or
+    with `decimals`, rounded to that many decimals as a user writes them
+    (then the centres are rounded inputs too).
     default.json's materials and lights; `shadows`: every light casts them;
     `close_lights`: two more point lights among the spheres, one
     inverse-square."""
@@ -135,7 +139,8 @@ def pinhole_field(count, radius, near, far, fov, seed, eye=(0, 2.4, 8), look_at=
         dist = rng.uniform(near, far)
         a = rng.uniform(-0.9, 0.9) * half * aspect * dist
         b = rng.uniform(-0.9, 0.9) * half * dist
-        c = [f32(eye[i] + fwd[i] * dist + right[i] * a + up[i] * b) for i in range(3)]
+        c = [eye[i] + fwd[i] * dist + right[i] * a + up[i] * b for i in range(3)]
+        c = [f32(x) if decimals is None else round(x, decimals) for x in c]
         objects.append(sphere(c, radius, materials[k % len(materials)]))
     scene = dict(base)
     scene["camera"] = {"type": "pinhole", "eye": list(eye), "look_at": list(look_at), "up": [0, 1, 0], "fov_y": fov,
@@ -174,6 +179,10 @@ SCENES = {
     "pinhole_field_shadows": lambda: pinhole_field(20000, 0.04, 10, 14, 42, seed=21, width=160, height=120, shadows=True),
     "pinhole_field_close_lights": lambda: pinhole_field(20000, 0.04, 10, 14, 42, seed=22, width=160, height=120,
                                                         shadows=True, close_lights=True),
+    # The two fields with centres as a user writes them (4 and 7 decimals): rounded to float, each
+    # is off by up to u/2 |c|, ~u |c| / r of a normal, as much as the camera rays' rounding.
+    "pinhole_field_decimal": lambda: pinhole_field(20000, 0.04, 10, 14, 42, seed=23, decimals=4),
+    "pinhole_field_far_decimal": lambda: pinhole_field(4000, 1e-3, 100, 100.05, 3, seed=24, decimals=7),
 }
 
 

@@ -241,10 +241,21 @@ void GarbageRays::fill(RayPacket8& rays) {
         rays.tmax[i] = bits() % 4 == 0 ? float(uniform(0, 20)) : std::numeric_limits<float>::infinity();
         rays.active[i] = 1;
         rays.pixel[i] = std::int32_t(bits());  // any value keys occlusion samples
+        // Rounding residuals (RayPacket::ox_lo...): zero, a real one (below
+        // u/2 of its component), or garbage (any float: kernels ignore one
+        // that is not finite or above 2^-20 of its vector).
+        float* residuals[6] = {rays.ox_lo, rays.oy_lo, rays.oz_lo, rays.dx_lo, rays.dy_lo, rays.dz_lo};
+        const std::uint32_t residual_kind = bits() % 4;
+        for (int k = 0; k < 6; ++k)
+            residuals[k][i] = residual_kind == 0   ? 0.0f
+                              : residual_kind == 1 ? fields[k][i] * float(uniform(-0x1p-25, 0x1p-25))
+                              : bits() % 2         ? value()
+                                                   : 0.0f;
         // Then garbage: a whole lane of random bits, or some fields replaced.
         const std::uint32_t kind = bits() % 16;
         if (kind == 0) {
             for (float* f : fields) f[i] = from_bits(bits());
+            for (float* f : residuals) f[i] = from_bits(bits());
             rays.active[i] = std::int32_t(bits());
             continue;
         }

@@ -7,12 +7,9 @@
 
 namespace octray::test {
 
-float f(double x) {
-    volatile float rounded = float(x);
-    return rounded;
-}
+float f(double x) { return float(round_to_float(x)); }
 
-Vec3d fl(const Vec3d& v) { return {double(f(v.x)), double(f(v.y)), double(f(v.z))}; }
+Vec3d fl(const Vec3d& v) { return round_to_float(v); }
 
 Vec3d RandomRays::direction() {
     for (;;) {

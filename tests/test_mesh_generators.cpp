@@ -49,7 +49,7 @@ TEST_CASE("save_ply: a generated mesh, written as binary PLY and loaded back, gi
         CHECK(back.dropped_degenerate == 0);
         REQUIRE(back.triangle_count() == src.triangle_count());
         CHECK(back.vertices.size() == src.vertices.size());
-        auto as_float = [](const Vec3d& v) { return Vec3d{double(float(v.x)), double(float(v.y)), double(float(v.z))}; };
+        auto as_float = [](const Vec3d& v) { return round_to_float(v); };
         for (std::size_t i = 0; i < src.indices.size(); ++i) {
             const Vec3d want = as_float(src.vertices[src.indices[i]]);
             const Vec3d got = back.vertices[back.indices[i]];

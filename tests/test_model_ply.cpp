@@ -123,13 +123,7 @@ TEST_CASE("read_ply: save_ply's file reads back as the mesh rounded to float") {
     REQUIRE(bytes.substr(0, h.size()) == h);
     CHECK(bytes.size() == h.size() + 4 * 12 + 3 * 13);
     std::vector<Vec3d> rounded;
-    // Through a volatile float: GCC 12.2's SLP vectorizer at -O2 drops the rounding of
-    // push_back({double(float(v.x)), double(float(v.y)), double(float(v.z))}) on x and y.
-    auto to_float = [](double d) {
-        volatile float f = static_cast<float>(d);
-        return static_cast<double>(f);
-    };
-    for (const Vec3d& v : src.vertices) rounded.push_back({to_float(v.x), to_float(v.y), to_float(v.z)});
+    for (const Vec3d& v : src.vertices) rounded.push_back(round_to_float(v));
     CHECK(rounded[0].x != src.vertices[0].x);  // the rounding is real
     check_mesh(read_ply(bytes), rounded, src.indices);
 

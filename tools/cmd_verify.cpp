@@ -27,7 +27,7 @@ int run_verify(const VerifyArgs& args) {
                 "           mismatched hits only on silhouettes, at most %.1f%% of lanes\n\n",
                 tol.scaled_error, 100 * tol.silhouette_fraction);
     if (args.packet_rays)
-        std::printf("reference: along the packet path's float camera rays (--packet-rays: their rounding left out)\n");
+        std::printf("reference: along the packet path's camera rays (--packet-rays: float plus residual, as the kernels take them)\n");
     std::printf("%-7s %-6s %8s %10s %10s %10s %10s %8s %10s %11s  %s\n", "path", "isa", "lanes", "max rel", "mean rel",
                 "p99 rel", "max L/S", "max ULP", "mismatched", "silhouette", "verdict");
     bool ok = true;

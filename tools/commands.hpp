@@ -48,7 +48,7 @@ int run_render(const RenderArgs& args);
 struct VerifyArgs {
     std::string scene;
     int threads = 0;  // 0: all cores
-    bool packet_rays = false;  // the reference along the packet path's float camera rays (verify.hpp)
+    bool packet_rays = false;  // the reference along the packet path's camera rays as the kernels take them (verify.hpp)
 };
 int run_verify(const VerifyArgs& args);
 

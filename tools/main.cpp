@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
     verify_cmd->add_option("scene", verify.scene, "scene JSON file")->required();
     verify_cmd->add_option("--threads", verify.threads, "render threads (0 = all cores)")->check(CLI::Range(0, 1024));
     verify_cmd->add_flag("--packet-rays", verify.packet_rays,
-                         "trace the reference along the packet path's float camera rays (leaves their rounding out)");
+                         "trace the reference along the packet path's camera rays as the kernels take them (float + residual)");
 
     ErrtimeArgs errtime;
     auto* errtime_cmd = app.add_subcommand("errtime", "error against run time, per precision mode");

@@ -67,6 +67,10 @@ const std::vector<Case>& catalogue() {
                          pinhole_wide_outline));
         c.push_back(make("pinhole_3deg_far_field", "400 spheres r = 1e-3 at 100 through a pinhole: few u", nb, 8,
                          pinhole_far_field));
+        c.push_back(make("pinhole_120deg_double", "the same from double eye, centre, rays (float + residual)",
+                         nb, 8, pinhole_wide_outline_double));
+        c.push_back(make("pinhole_3deg_far_double", "the same from double eye, centres, rays (float + residual)",
+                         nb, 8, pinhole_far_field_double));
         c.push_back(make("sphere_r1e3_at_1e6", "large sphere seen from far: normals few u", nb, 8, large_far_sphere));
         c.push_back(make("sphere_tangent_rays", "exact tangent hits (disc = 0); 1 ulp out misses", t8, 8, tangent_rays));
         c.push_back(make("camera_inside_sphere", "the far root (exit) is the hit", t8, 8, camera_inside));

@@ -136,15 +136,8 @@ Measure check_radiance(const Scene& scene, const std::vector<Lane>& lanes, const
 
 }  // namespace
 
-// Rounds to float, through a volatile: GCC 12.2 at -O3 (SLP vectorizer) drops
-// the (double)(float)x round trip of paired x, y components (wrong code,
-// reproduced with stability_meshes.cpp's rays_at; -O2 and -fno-tree-slp-vectorize
-// are right).
-double fl(double x) {
-    volatile float f = float(x);
-    return f;
-}
-Vec3d fl(const Vec3d& v) { return {fl(v.x), fl(v.y), fl(v.z)}; }
+double fl(double x) { return round_to_float(x); }
+Vec3d fl(const Vec3d& v) { return round_to_float(v); }
 double norm(const Vec3d& v) { return std::sqrt(dot(v, v)); }
 // A unit vector as the kernels see it: normalized in double, rounded to float.
 Vec3d dir(double x, double y, double z) {
@@ -181,6 +174,8 @@ Traced run(const Tracer& tr, const Scene& scene, const std::vector<Lane>& lanes,
             const Lane& l = lanes[base + std::size_t(i)];
             rp.ox[i] = float(l.o.x), rp.oy[i] = float(l.o.y), rp.oz[i] = float(l.o.z);
             rp.dx[i] = float(l.d.x), rp.dy[i] = float(l.d.y), rp.dz[i] = float(l.d.z);
+            rp.ox_lo[i] = float(l.o_lo.x), rp.oy_lo[i] = float(l.o_lo.y), rp.oz_lo[i] = float(l.o_lo.z);
+            rp.dx_lo[i] = float(l.d_lo.x), rp.dy_lo[i] = float(l.d_lo.y), rp.dz_lo[i] = float(l.d_lo.z);
             rp.tmin[i] = float(l.tmin), rp.tmax[i] = float(l.tmax);
             rp.active[i] = l.active ? -1 : 0;
         }
@@ -209,7 +204,7 @@ Traced run(const Tracer& tr, const Scene& scene, const std::vector<Lane>& lanes,
 
 // ---- the reference side --------------------------------------------------------
 
-reference::Ray ref_ray(const Lane& l) { return {l.o, l.d}; }
+reference::Ray ref_ray(const Lane& l) { return {l.o + l.o_lo, l.d + l.d_lo}; }
 double ref_tmax(const Lane& l) { return std::isinf(l.tmax) ? 1e300 : l.tmax; }
 
 reference::Hit ref_trace(const Scene& scene, const Lane& l) {
@@ -339,6 +334,13 @@ Scene scene_of(std::vector<Shape> shapes) {
 Lane toward(const Vec3d& o, const Vec3d& target) {
     const Vec3d v = target - o;
     return {fl(o), dir(v.x, v.y, v.z)};
+}
+
+Lane toward_exact(const Vec3d& o, const Vec3d& target) {
+    const Vec3d v = target - o, d = v * (1 / norm(v));
+    Lane l{fl(o), fl(d)};
+    l.o_lo = o - l.o, l.d_lo = d - l.d;
+    return l;
 }
 
 std::vector<Lane> down_onto(std::initializer_list<std::pair<double, double>> xy, double h) {

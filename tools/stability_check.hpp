@@ -38,11 +38,14 @@ double uniform(std::mt19937& rng, double lo, double hi);
 
 // ---- running a tracer ---------------------------------------------------------------
 
-// One ray as authored: every number already a float (as a double).
+// One ray as authored: every number already a float (as a double), and
+// optionally the rounding residuals of a double ray (RayPacket::ox_lo...):
+// the ray is then o + o_lo, d + d_lo, and the reference traces that.
 struct Lane {
     Vec3d o, d;
     double tmin = 0, tmax = kInf;
     bool active = true;
+    Vec3d o_lo{}, d_lo{};
 };
 
 // What the tracer returned for one lane.
@@ -135,6 +138,9 @@ Material matte(const char* name = "m", Vec3d cd = {1, 1, 1}, double ka = 0.0, do
 Scene scene_of(std::vector<Shape> shapes);
 // A ray from o toward `target` with the float-rounded unit direction.
 Lane toward(const Vec3d& o, const Vec3d& target);
+// The same ray in double (o as given, the unit direction unrounded), carried
+// as float + residual: the camera kernel's kind of ray.
+Lane toward_exact(const Vec3d& o, const Vec3d& target);
 // Rays straight down (-z) from height h onto points (x, y, 0): t = h exactly.
 std::vector<Lane> down_onto(std::initializer_list<std::pair<double, double>> xy, double h = 1);
 
@@ -151,7 +157,8 @@ Measure small_far_outline(const Tracer& tr);
 // directions e across c - o per fraction f), and the hit and normal checks
 // (the normals against the reference's on the same float rays; the naive
 // column the kernels' earlier n = (o + t d - c) / r).
-std::vector<Lane> sphere_probe(const Vec3d& o, const Vec3d& c, double r, std::initializer_list<double> fractions);
+std::vector<Lane> sphere_probe(const Vec3d& o, const Vec3d& c, double r, std::initializer_list<double> fractions,
+                               Lane (*ray)(const Vec3d&, const Vec3d&) = toward);
 Measure measure_frame(const Tracer& tr, const Scene& s, const std::vector<Lane>& lanes);
 Measure small_sphere_field(const Tracer& tr);
 Measure large_far_sphere(const Tracer& tr);
@@ -160,9 +167,12 @@ Measure camera_inside(const Tracer& tr);
 Measure origin_on_surface(const Tracer& tr);
 
 // stability_pinhole.cpp: small spheres through a pinhole camera's rays:
-// a wide angle near the outline, a far telephoto field.
+// a wide angle near the outline, a far telephoto field; each with float
+// inputs, and with a double eye, centres and rays (float + residual).
 Measure pinhole_wide_outline(const Tracer& tr);
 Measure pinhole_far_field(const Tracer& tr);
+Measure pinhole_wide_outline_double(const Tracer& tr);
+Measure pinhole_far_field_double(const Tracer& tr);
 // stability_shadows.cpp: shadow rays on meshes, a blocker 0.02 above the surface.
 Measure mesh_shadows(const Tracer& tr);
 // stability_planar.cpp: planes, disks, rectangles and boxes: parallel and

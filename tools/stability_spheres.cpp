@@ -27,7 +27,8 @@ Lane planet_ray(double theta_deg, double phi_deg) {
 
 // A small or far sphere hit through its centre and at fractions of its radius;
 // `miss` fractions beyond it.
-std::vector<Lane> sphere_probe(const Vec3d& o, const Vec3d& c, double r, std::initializer_list<double> fractions) {
+std::vector<Lane> sphere_probe(const Vec3d& o, const Vec3d& c, double r, std::initializer_list<double> fractions,
+                               Lane (*ray)(const Vec3d&, const Vec3d&)) {
     const Vec3d axis = c - o;
     // Two directions perpendicular to the axis.
     Vec3d e1 = std::fabs(axis.x) < std::fabs(axis.z) ? cross(axis, Vec3d{1, 0, 0}) : cross(axis, Vec3d{0, 0, 1});
@@ -38,7 +39,7 @@ std::vector<Lane> sphere_probe(const Vec3d& o, const Vec3d& c, double r, std::in
     for (double f : fractions)
         for (int k = 0; k < 3; ++k) {
             const double a = 2 * kPi * k / 3 + f;
-            out.push_back(toward(o, c + (e1 * std::cos(a) + e2 * std::sin(a)) * (f * r)));
+            out.push_back(ray(o, c + (e1 * std::cos(a) + e2 * std::sin(a)) * (f * r)));
         }
     return out;
 }

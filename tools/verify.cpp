@@ -77,9 +77,10 @@ ReferenceTrace trace_reference(const Scene& scene, const PacketScene& packet, Ca
         for (int i = 0; i < c.width; ++i) {
             if (i % kPacketWidth == 0) camera(packet, i, j, rp);
             const int q = i % kPacketWidth;
-            const Vec3d d{rp.dx[q], rp.dy[q], rp.dz[q]};
-            const reference::Ray& ray =
-                t.rays.emplace_back(reference::Ray{Vec3d{rp.ox[q], rp.oy[q], rp.oz[q]}, d * (1 / std::sqrt(dot(d, d)))});
+            // The ray as the kernels take it: the float ray plus its residuals.
+            const Vec3d o{double(rp.ox[q]) + rp.ox_lo[q], double(rp.oy[q]) + rp.oy_lo[q], double(rp.oz[q]) + rp.oz_lo[q]};
+            const Vec3d d{double(rp.dx[q]) + rp.dx_lo[q], double(rp.dy[q]) + rp.dy_lo[q], double(rp.dz[q]) + rp.dz_lo[q]};
+            const reference::Ray& ray = t.rays.emplace_back(reference::Ray{o, d * (1 / std::sqrt(dot(d, d)))});
             t.hits.push_back(reference::trace(scene, ray));
         }
     return t;

@@ -40,11 +40,12 @@ struct ReferenceTrace {
     std::vector<reference::Hit> hits;
 };
 ReferenceTrace trace_reference(const Scene& scene);
-// The same along the camera rays `camera` makes (a kernel's: float, each
-// read exactly into double and its direction normalized in double). The
-// rounding of a pinhole camera's rays, ~u per direction component, moves a
-// hit at distance t by ~u t: on a sphere of radius R a normal change of
-// ~u t / (R cos), which no kernel can remove (precision.hpp, dn_in). This
+// The same along the camera rays `camera` makes, as the kernels take them:
+// float plus residual (RayPacket::ox_lo...), read into double, the direction
+// normalized in double. The camera kernel forms its rays in double, so they
+// are the reference's own to ~u^2; a camera that rounded them (a user's
+// CameraFn) would move a hit at distance t by ~u t, a normal change of
+// ~u t / (R cos) on a sphere of radius R (precision.hpp, dn_in), and this
 // trace leaves that input out, so the comparison measures the kernels alone.
 ReferenceTrace trace_reference(const Scene& scene, const PacketScene& packet, CameraFn camera);
 // Rows spread over `threads` threads (octray/threads.hpp: 0 = every core).

@@ -24,6 +24,15 @@ struct alignas(32) RayPacket {
     // samples (docs/shading-model.md), so every path draws the same ones. Read only by shade,
     // and only for a scene whose ambient light has occlusion; camera() fills it.
     alignas(32) std::int32_t pixel[W];
+    // Optional: the rounding residuals of origin and direction, so that the
+    // ray is exactly (o + o_lo, d + d_lo). camera() computes its rays in
+    // double and fills them; zero (the default) says the float ray is exact.
+    // Only a sphere's normal reads them: rounding moves a ray's hit by ~u t,
+    // which turns the normal of a sphere of radius r by ~u t / r (a small
+    // sphere far away through a pinhole). A lane's residual that is not
+    // finite or exceeds 2^-20 of its vector is ignored.
+    alignas(32) float ox_lo[W]{}, oy_lo[W]{}, oz_lo[W]{};
+    alignas(32) float dx_lo[W]{}, dy_lo[W]{}, dz_lo[W]{};
 };
 
 template <int W = kPacketWidth>

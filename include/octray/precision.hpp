@@ -72,28 +72,33 @@
 //     sphere term (sphere hits) = (dn_in + sphere_normal_bound(cos)) (1 + 2 min(R, t) / r_min),
 //     dn_in = (e / R) (1 + 1 / cos),
 // where e is how far the sphere the kernels see sits from the reference's at
-// the hit: the float camera ray's distance from the reference's hit point,
-// plus the rounding of the centre and radius to float. A normal off by dn
+// the hit: the kernels' ray's distance from the reference's hit point, plus
+// what the compiled scene leaves of the centre and radius. A normal off by dn
 // changes every n.l by at most dn (so L by dn S); where the sphere is
 // smaller than the hit distance (R < t), the kernels shade at c + R n
 // (kernels/shade.hpp), which it moves by R dn, and a point light's direction
 // by 2 R dn / r (r_min: the nearest point light); elsewhere at o + t d, which
-// kappa covers. e is the inputs' part, and it is where t/R comes
-// back for a general camera: a float ray's direction is rounded (the camera
-// kernel's is within ~1.3u of the reference's, measured), so e ~ u t. It
-// is the direction's rounding, not the kernel's arithmetic: the camera
-// forms d = u sx + v sy - w from a float frame (each of u, v, w, sx, sy
-// rounded by u/2) and rounds it, so even a correctly rounded d is off by
-// up to u/2 per component, e <= (u/2) sqrt(3) t |d|, and a ray that
-// passes the sphere at cos moves its hit by e / cos along the surface:
-// dn_in = (e / R)(1 + 1 / cos), whatever formulation the kernel uses. For
-// R = 0.04 at t = 12 that is ~1.5e-5 (1 + 1/cos); for R = 1e-3 at t = 100,
-// ~5e-3 (1 + 1/cos). Measured (`octray verify`, max L/S, the pinhole
-// fields of scripts/make_sphere_fields.py): 5.8e-4 and 8.5e-4 in exact,
-// 9.1e-4 for the far field in f64 (a double kernel on the same float
-// rays: the input's share), and 6.9e-6 and 1.6e-7 with the reference
-// traced along the kernels' float rays (`--packet-rays`): the kernels'
-// own share, within sphere_normal_bound. It
+// kappa covers. e is the inputs' part, and it is where t/R would come back
+// for a general camera: a direction rounded to float is off by up to u/2 per
+// component, so a float ray misses the reference's hit by up to
+// (u/2) sqrt(3) t |d|, and a ray that passes the sphere at cos moves its hit
+// by e / cos along the surface: dn_in = (e / R)(1 + 1 / cos), whatever
+// formulation the kernel uses (R = 0.04 at t = 12: ~1.5e-5 (1 + 1/cos);
+// R = 1e-3 at t = 100: ~5e-3 (1 + 1/cos)). A centre rounded to float moves
+// the sphere by up to (u/2) sqrt(3) |c| likewise. So neither is rounded
+// alone: the camera kernel forms its rays in double from a double frame and
+// passes each as float + residual (RayPacket::ox_lo..., exact to ~u^2 |x|),
+// the compiled scene keeps each centre's residual (SphereArrays::cx_lo), and
+// sphere_offset takes both into the foot of the perpendicular, to first
+// order in u: the residuals move q by ~u t, the products they are rounded in
+// by ~u^2 t, so e <= u^2 (t |d| + |c|) + the radius's rounding, u/2 R, which
+// enters h as u R / (2 cos): under sphere_normal_bound's own 4/cos. Measured
+// (`octray verify`, max L/S, the pinhole fields of
+// scripts/make_sphere_fields.py): 3.3e-6 (fov 42), 2.2e-7 (fov 3, 100
+// units), 2.2e-6 (100 degrees), 5.8e-6 and 1.8e-7 with centres written to 4
+// and 7 decimals; rounded alone, the rays gave 5.8e-4, 8.5e-4, 1.3e-3 and the
+// decimal centres 4.0e-4 and 1.2e-3 (docs/accuracy.md). A ray an engine
+// passes without residuals is taken as exact: e is then its own rounding. It
 // vanishes where the rays and the scene are exact in float (an
 // orthographic camera on a power-of-two grid, coordinates written as
 // floats: the sphere_field scenes scripts/make_sphere_fields.py writes), and there the bound holds with no
