@@ -42,8 +42,7 @@ void store_hit(const SceneData& s, const Ray<T, P>& r, const Closest<T>& best, V
     const T &t = best.t, &cid = best.cid;
     const M hit = r.valid && cid >= T(0);
     const T k = lane::select(hit, cid, T(0));
-    const M away = fdot(n, r.d) > T(0);
-    n = {lane::select(away, -n.x, n.x), lane::select(away, -n.y, n.y), lane::select(away, -n.z, n.z)};
+    n = face_forward(s, n, r, best);
     store(hp.t, 0, lane::select(hit, t, inf<T>()));
     const Lookup<T> at(k, hit);
     store_index(hp.primitive, 0, lane::select(hit, at(s.object_of), T(-1)));

@@ -281,6 +281,19 @@ inline Vec3<T> hit_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, 
     return n;
 }
 
+// Two-sided shading: the normal n of the closest hit `best` turned to oppose
+// the ray. A sphere's by the root that was hit (the near root: outward; the
+// far root, from inside: inward), not by the sign of n.d: on a ray that grazes
+// the sphere (cos = |n.d| below n's own error, a few u / cos) that sign is
+// noise, and a wrong one turns the whole normal around.
+template <class T, Precision P>
+inline Vec3<T> face_forward(const SceneData& s, const Vec3<T>& n, const Ray<T, P>& r, const Closest<T>& best) {
+    const Mask<T> sphere = best.cid >= T(0) && best.cid < T(float(s.count[0]));  // spheres are compiled first
+    const Mask<T> away = (sphere && lane::not_(best.near)) || (lane::not_(sphere) && fdot(n, r.d) > T(0));
+    return {lane::select(away, T(0) - n.x, n.x), lane::select(away, T(0) - n.y, n.y),
+            lane::select(away, T(0) - n.z, n.z)};
+}
+
 template <class T, Precision P, unsigned F>
 inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8& hp, int lane) {
     int masked = 0;
@@ -290,10 +303,7 @@ inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8&
     const T cid = lane::keep(hit, best.cid);
     const Vec3<T> p = r.o + r.d * best.t;
     const Lookup<T> at(cid, hit);
-    Vec3<T> n = hit_normal<T, P, F>(s, at, r, load_residual(rp, lane, r), best, p, hit);
-    // Face-forward (two-sided shading): the normal opposes the ray.
-    const Mask<T> away = fdot(n, r.d) > T(0);
-    n = {lane::select(away, T(0) - n.x, n.x), lane::select(away, T(0) - n.y, n.y), lane::select(away, T(0) - n.z, n.z)};
+    const Vec3<T> n = face_forward(s, hit_normal<T, P, F>(s, at, r, load_residual(rp, lane, r), best, p, hit), r, best);
     store(hp.t, lane, lane::select(hit, best.t, inf<T>()));
     store_index(hp.primitive, lane, lane::select(hit, at(s.object_of), T(-1)));
     store_index(hp.material, lane, lane::select(hit, at(s.material_of), T(-1)));

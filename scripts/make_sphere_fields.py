@@ -161,6 +161,35 @@ def pinhole_field(count, radius, near, far, fov, seed, eye=(0, 2.4, 8), look_at=
     return scene
 
 
+def planar_far_field(count, seed):
+    """count disks and rectangles (alternately, radius 0.02 and 0.03 x 0.03,
+    tilted at random, centres to 6 decimals) 100-100.05 units in front of a
+    3-degree pinhole at default.json's eye, lit by its lights and a point
+    light 8 units in front of them: the planar primitives at distance."""
+    rng = random.Random(seed)
+    base = default_scene()
+    materials = sorted(base["materials"])
+    eye = [0, 2.4, 8]
+    objects = []
+    for k in range(count):
+        dist = rng.uniform(100, 100.05)
+        c = [round(rng.uniform(-2, 2), 6), round(eye[1] + rng.uniform(-1.5, 1.5), 6), round(eye[2] - dist, 6)]
+        m = materials[k % len(materials)]
+        if k % 2:
+            objects.append({"type": "disk", "center": c, "normal": [rng.uniform(-1, 1), rng.uniform(-1, 1), 1.0],
+                            "radius": 0.02, "material": m})
+        else:
+            objects.append({"type": "rectangle", "corner": c, "a": [0.03, 0.001, 0.0], "b": [0.0, 0.03, 0.002],
+                            "material": m})
+    scene = dict(base)
+    scene["camera"] = {"type": "pinhole", "eye": eye, "look_at": [0, eye[1], 0], "up": [0, 1, 0], "fov_y": 3,
+                       "width": 320, "height": 240}
+    scene["lights"] = [dict(l) for l in base["lights"]] + [
+        {"type": "point", "position": [0.5, 2.9, eye[2] - 92], "color": [1, 1, 1], "ls": 2.0}]
+    scene["objects"] = objects
+    return scene
+
+
 # name: (what it is, how to make it). The orthographic fields keep every input
 # exact in float; the pinhole ones round every camera ray.
 SCENES = {
@@ -183,6 +212,8 @@ SCENES = {
     # is off by up to u/2 |c|, ~u |c| / r of a normal, as much as the camera rays' rounding.
     "pinhole_field_decimal": lambda: pinhole_field(20000, 0.04, 10, 14, 42, seed=23, decimals=4),
     "pinhole_field_far_decimal": lambda: pinhole_field(4000, 1e-3, 100, 100.05, 3, seed=24, decimals=7),
+    # Disks and rectangles at 100 units through the same telephoto: their normal is the plane's.
+    "pinhole_planar_far": lambda: planar_far_field(400, seed=25),
 }
 
 

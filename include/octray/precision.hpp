@@ -93,12 +93,10 @@
 // order in u: the residuals move q by ~u t, the products they are rounded in
 // by ~u^2 t, so e <= u^2 (t |d| + |c|) + the radius's rounding, u/2 R, which
 // enters h as u R / (2 cos): under sphere_normal_bound's own 4/cos. Measured
-// (`octray verify`, max L/S, the pinhole fields of
-// scripts/make_sphere_fields.py): 3.3e-6 (fov 42), 2.2e-7 (fov 3, 100
-// units), 2.2e-6 (100 degrees), 5.8e-6 and 1.8e-7 with centres written to 4
-// and 7 decimals; rounded alone, the rays gave 5.8e-4, 8.5e-4, 1.3e-3 and the
-// decimal centres 4.0e-4 and 1.2e-3 (docs/accuracy.md). A ray an engine
-// passes without residuals is taken as exact: e is then its own rounding. It
+// on the pinhole fields of scripts/make_sphere_fields.py, before and after:
+// docs/accuracy.md, "Small spheres through a pinhole camera". A ray an
+// engine passes without residuals is taken as exact: e is then its own
+// rounding. It
 // vanishes where the rays and the scene are exact in float (an
 // orthographic camera on a power-of-two grid, coordinates written as
 // floats: the sphere_field scenes scripts/make_sphere_fields.py writes), and there the bound holds with no
