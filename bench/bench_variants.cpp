@@ -76,7 +76,7 @@ int intersect_spheres(const PacketScene& scene, const RayPacket8& rp, HitPacket8
         best.take(hit, t, k, near);
     });
     const Lookup<T> at = hit_lookup(best);
-    store_hit(s, r, best, compiled_sphere_normal(s, at, r, load_residual(rp, 0, r), best.near), hp);
+    store_hit(s, r, best, compiled_sphere_normal(s, at, r, load_residual<T>(rp, 0), best.near), hp);
     return masked;
 }
 
@@ -122,7 +122,7 @@ int intersect_spheres_planes(const PacketScene& scene, const RayPacket8& rp, Hit
     const M is_plane = cid >= T(float(s.offset[1]));
     const Lookup<T> sphere_at(lane::select(is_sphere, cid, T(0)), is_sphere);
     const Lookup<T> plane_at(lane::select(is_plane, cid - T(float(s.offset[1])), T(0)), is_plane);
-    const Vec3<T> ns = compiled_sphere_normal(s, sphere_at, r, load_residual(rp, 0, r), best.near);
+    const Vec3<T> ns = compiled_sphere_normal(s, sphere_at, r, load_residual<T>(rp, 0), best.near);
     const Vec3<T> np = plane_at(b.nx, b.ny, b.nz);
     store_hit(s, r, best,
               {lane::select(is_sphere, ns.x, np.x), lane::select(is_sphere, ns.y, np.y), lane::select(is_sphere, ns.z, np.z)},

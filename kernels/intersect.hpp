@@ -303,7 +303,7 @@ inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8&
     const T cid = lane::keep(hit, best.cid);
     const Vec3<T> p = r.o + r.d * best.t;
     const Lookup<T> at(cid, hit);
-    const Vec3<T> n = face_forward(s, hit_normal<T, P, F>(s, at, r, load_residual(rp, lane, r), best, p, hit), r, best);
+    const Vec3<T> n = face_forward(s, hit_normal<T, P, F>(s, at, r, load_residual<T>(rp, lane), best, p, hit), r, best);
     store(hp.t, lane, lane::select(hit, best.t, inf<T>()));
     store_index(hp.primitive, lane, lane::select(hit, at(s.object_of), T(-1)));
     store_index(hp.material, lane, lane::select(hit, at(s.material_of), T(-1)));

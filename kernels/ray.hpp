@@ -122,25 +122,17 @@ inline Ray<T, P> load_ray(const RayPacket8& rp, int lane, int& masked) {
     return r;
 }
 
-// A ray's rounding residuals (RayPacket::ox_lo...): zero on lanes outside
-// r.valid and where a residual is not finite or exceeds 2^-20 of its vector
-// (a float ray's own rounding is below 2^-24 of it; anything larger is not a
-// residual, and taking it could move the hit off the surface).
+// A ray's rounding residuals (RayPacket::ox_lo...), as given: the one use,
+// sphere_offset, drops a shift they make that is not finite or passes the
+// sphere's radius, so garbage cannot leave a normal unbounded.
 template <class T>
 struct RayResidual {
     Vec3<T> o, d;
 };
-template <class T, Precision P>
-inline RayResidual<T> load_residual(const RayPacket8& rp, int lane, const Ray<T, P>& r) {
-    // Sums, not lane::max, which would pass over a NaN.
-    auto size = [](const Vec3<T>& v) { return lane::abs(v.x) + lane::abs(v.y) + lane::abs(v.z); };
-    auto accept = [&](const Vec3<T>& lo, const Vec3<T>& hi) {
-        const Mask<T> ok = r.valid && size(lo) <= T(0x1p-20f) * size(hi);  // false for NaN
-        return Vec3<T>{lane::keep(ok, lo.x), lane::keep(ok, lo.y), lane::keep(ok, lo.z)};
-    };
-    const Vec3<T> o{load<T>(rp.ox_lo, lane), load<T>(rp.oy_lo, lane), load<T>(rp.oz_lo, lane)};
-    const Vec3<T> d{load<T>(rp.dx_lo, lane), load<T>(rp.dy_lo, lane), load<T>(rp.dz_lo, lane)};
-    return {accept(o, r.o), accept(d, r.d)};
+template <class T>
+inline RayResidual<T> load_residual(const RayPacket8& rp, int lane) {
+    return {{load<T>(rp.ox_lo, lane), load<T>(rp.oy_lo, lane), load<T>(rp.oz_lo, lane)},
+            {load<T>(rp.dx_lo, lane), load<T>(rp.dy_lo, lane), load<T>(rp.dz_lo, lane)}};
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA

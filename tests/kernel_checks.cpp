@@ -242,8 +242,8 @@ void GarbageRays::fill(RayPacket8& rays) {
         rays.active[i] = 1;
         rays.pixel[i] = std::int32_t(bits());  // any value keys occlusion samples
         // Rounding residuals (RayPacket::ox_lo...): zero, a real one (below
-        // u/2 of its component), or garbage (any float: kernels ignore one
-        // that is not finite or above 2^-20 of its vector).
+        // u/2 of its component), or garbage (any float: not a rounding, but
+        // the normals must stay finite).
         float* residuals[6] = {rays.ox_lo, rays.oy_lo, rays.oz_lo, rays.dx_lo, rays.dy_lo, rays.dz_lo};
         const std::uint32_t residual_kind = bits() % 4;
         for (int k = 0; k < 6; ++k)

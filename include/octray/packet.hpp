@@ -29,8 +29,8 @@ struct alignas(32) RayPacket {
     // double and fills them; zero (the default) says the float ray is exact.
     // Only a sphere's normal reads them: rounding moves a ray's hit by ~u t,
     // which turns the normal of a sphere of radius r by ~u t / r (a small
-    // sphere far away through a pinhole). A lane's residual that is not
-    // finite or exceeds 2^-20 of its vector is ignored.
+    // sphere far away through a pinhole). Give a rounding's residual (at most
+    // u = 2^-24 of the component) or zero: others give finite normals of no use.
     alignas(32) float ox_lo[W]{}, oy_lo[W]{}, oz_lo[W]{};
     alignas(32) float dx_lo[W]{}, dy_lo[W]{}, dz_lo[W]{};
 };
