@@ -159,13 +159,13 @@ double shade_flops_per_ray(const PacketScene& scene) {
 //                                                          per channel = 51, x3 = 153
 double tonemap_flops_per_ray(ToneMap mode, bool gamma) { return (mode == ToneMap::max_to_one ? 4 : 0) + (gamma ? 153 : 0); }
 
-// ---- camera (camera_lanes) ------------------------------------------------------
-// sx = (2 * (col + 0.5) / width - 1) * scale_x: add, mul, div, sub, mul   =  5
-// pinhole: d = u*sx + v*sy - w: 3 mul, 3 mul, 3 add, 3 sub 12; fdot(d,d) 5;
-//          rsqrt 2; d * inv 3                                             = 27
-// orthographic: o = eye + u*sx + v*sy 12; d = 0 - w 3                     = 20
-// (sy is one value per packet row: not counted.)
-double camera_flops_per_ray(bool orthographic) { return orthographic ? 20 : 27; }
+// ---- camera (kernels/camera.hpp, in double) -------------------------------------
+// sx = column * step + first: 1 fma                                       =  2
+// pinhole: d = u*sx + (v*sy - w): 3 fma 6; fdot(d,d) 5; 1/sqrt 2; d * k 3;
+//          the float + residual split 3                                    = 21
+// orthographic: o = u*sx + (eye + v*sy): 3 fma 6; the split 3            = 11
+// (sy, v*sy - w and eye + v*sy are one value per packet: not counted.)
+double camera_flops_per_ray(bool orthographic) { return orthographic ? 13 : 23; }
 
 // =============================================================================
 // Scenes and rays

@@ -125,9 +125,16 @@ inline xsimd::batch<S, A> keep(const xsimd::batch_bool<S, A>& m, const xsimd::ba
     if constexpr (std::is_base_of_v<xsimd::avx512f, A>) return xsimd::select(m, a, B(S(0)));
     else return B(static_cast<typename xsimd::batch_bool<S, A>::register_type>(m)) & a;
 }
+// xsimd 8.1 has no AVX-512 fma kernel: its generic one is a * b + c, two
+// roundings under -ffp-contract=off, where every other unit fuses.
 template <class S, class A>
 inline xsimd::batch<S, A> fma(const xsimd::batch<S, A>& a, const xsimd::batch<S, A>& b, const xsimd::batch<S, A>& c) {
-    return xsimd::fma(a, b, c);
+#if defined(__AVX512F__)
+    if constexpr (std::is_base_of_v<xsimd::avx512f, A> && std::is_same_v<S, double>) return _mm512_fmadd_pd(a, b, c);
+    else if constexpr (std::is_base_of_v<xsimd::avx512f, A>) return _mm512_fmadd_ps(a, b, c);
+    else
+#endif
+        return xsimd::fma(a, b, c);
 }
 // On x86 xsimd's min/max are minps/maxps (and their pd, ymm, zmm forms):
 // exactly a < b ? a : b, in one instruction instead of a compare and a blend.

@@ -305,6 +305,13 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     pc.scale_x = half * c.width / c.height;
     pc.width = c.width;
     pc.height = c.height;
+    pc.sx_step = 2.0 * pc.scale_x / c.width, pc.sx_first = (1.0 / c.width - 1.0) * pc.scale_x;
+    pc.sy_step = -2.0 * pc.scale_y / c.height, pc.sy_first = (1.0 - 1.0 / c.height) * pc.scale_y;
+    for (int i = 0; i < 3; ++i) {
+        const double shared = pc.orthographic ? -pc.w[i] : pc.eye[i];
+        pc.shared_hi[i] = float(shared);
+        pc.shared_lo[i] = float(shared - round_to_float(shared));  // (GCC 12 folds shared - double(float(shared)) to 0)
+    }
     return compiled;
 }
 

@@ -57,6 +57,13 @@ struct PacketCamera {
     double eye[3]{}, u[3]{}, v[3]{}, w[3]{};
     double scale_x = 1, scale_y = 1;  // tan(fov/2)*aspect, tan(fov/2)  (or height_world/2 * ...)
     int width = 0, height = 0;
+    // The image plane's coordinates as affine functions of the pixel:
+    // sx = column * sx_step + sx_first, sy = row * sy_step + sy_first (the
+    // pixel centre's (2 (i + 0.5) / width - 1) scale_x, (1 - 2 (j + 0.5) / height) scale_y).
+    double sx_step = 0, sx_first = 0, sy_step = 0, sy_first = 0;
+    // What every lane shares, rounded to float and its residual: a pinhole's
+    // eye, an orthographic camera's direction -w.
+    float shared_hi[3]{}, shared_lo[3]{};
 };
 
 struct SceneData {
