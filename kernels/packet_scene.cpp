@@ -227,15 +227,12 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     // Spheres and triangles: a whole packet width past the last one too, as a
     // leaf's run loads 8 from its start (test_run; lanes past the run are off).
     SphereArrays& sp = s.spheres;
+    for (Floats* f : {&sp.cx, &sp.cy, &sp.cz, &sp.inv_radius, &sp.radius, &sp.cx_lo, &sp.cy_lo, &sp.cz_lo})
+        f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
+    pad(sp.cx, sp.cy, sp.cz, sp.inv_radius, sp.radius, sp.cx_lo, sp.cy_lo, sp.cz_lo);
+    // Float centres leave every residual zero: no arrays, and the normal reads none.
     auto is_zero = [](const Floats& f) { return std::all_of(f.begin(), f.end(), [](float x) { return x == 0.0f; }); };
     if (is_zero(sp.cx_lo) && is_zero(sp.cy_lo) && is_zero(sp.cz_lo)) sp.cx_lo = {}, sp.cy_lo = {}, sp.cz_lo = {};
-    const bool residuals = !sp.cx_lo.empty();
-    for (Floats* f : {&sp.cx, &sp.cy, &sp.cz, &sp.inv_radius, &sp.radius})
-        f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
-    if (residuals)
-        for (Floats* f : {&sp.cx_lo, &sp.cy_lo, &sp.cz_lo}) f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
-    pad(sp.cx, sp.cy, sp.cz, sp.inv_radius, sp.radius);
-    if (residuals) pad(sp.cx_lo, sp.cy_lo, sp.cz_lo);
     pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
     pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);
     auto& r = s.rectangles;
