@@ -69,11 +69,15 @@ struct Box {
 // first; then unused ones (kEmptySlot, empty bounds) up to 8.
 // Children are in the binary tree's left-to-right order (the order of their
 // primitives in each kind's array), not sorted by anything else: walks order
-// them per ray.
+// them per ray. run[i]: a leaf child's primitives inline (leaf_run), so a
+// walk reaches them without a read of Bvh8::leaves (a cache miss per leaf
+// on a large tree); 0 for an inner node, an empty slot, or a leaf that does
+// not fit in the word.
 struct alignas(64) Node8 {
     float lo_x[kWidth], lo_y[kWidth], lo_z[kWidth];
     float hi_x[kWidth], hi_y[kWidth], hi_z[kWidth];
     std::int32_t child[kWidth];
+    std::uint32_t run[kWidth];
 
     int child_count() const {
         int n = 0;
@@ -82,7 +86,7 @@ struct alignas(64) Node8 {
     }
     Box bounds(int i) const { return {{lo_x[i], lo_y[i], lo_z[i]}, {hi_x[i], hi_y[i], hi_z[i]}}; }
 };
-// 224 bytes of data padded to 256: a node is four whole cache lines.
+// A node is four whole cache lines; child[] and run[] share the last.
 static_assert(sizeof(Node8) == 256, "Node8 is four cache lines");
 
 // A leaf: for each kind k, its primitives of kind k are positions
@@ -103,6 +107,32 @@ struct Leaf {
         return n;
     }
 };
+
+// A leaf's one run inline, for its parent's Node8::run: begin | kind << 24 |
+// count << 27, where the leaf holds primitives of one kind only, at most 31
+// of them, beginning below 2^24 (every leaf of a scene's tree with the
+// default leaf size); else 0.
+inline std::uint32_t leaf_run(const Leaf& l) {
+    int kind = -1;
+    for (int k = 0; k < kMaxKinds; ++k) {
+        if (l.count[k] == 0) continue;
+        if (kind >= 0) return 0;  // two kinds
+        kind = k;
+    }
+    if (kind < 0 || l.count[kind] > 31 || l.begin[kind] >= (1u << 24)) return 0;
+    return l.begin[kind] | std::uint32_t(kind) << 24 | std::uint32_t(l.count[kind]) << 27;
+}
+
+// The leaf a walk reaches by child reference `ref` (< 0) whose parent's run
+// word is `run`: decoded into `scratch` when inline, else read from leaves.
+inline const Leaf& leaf_of(const std::vector<Leaf>& leaves, std::int32_t ref, std::uint32_t run, Leaf& scratch) {
+    if (run == 0) return leaves[std::size_t(~ref)];
+    scratch = Leaf{};
+    const unsigned kind = (run >> 24) & 7u;
+    scratch.begin[kind] = run & 0xffffffu;
+    scratch.count[kind] = std::uint8_t(run >> 27);
+    return scratch;
+}
 
 // The tree. nodes[0] is the root whenever there is a primitive (even one: a
 // root with a single leaf child); no primitive: no node, no leaf.

@@ -88,6 +88,7 @@ struct Collapser {
             n.lo_x[j] = box.lo[0], n.lo_y[j] = box.lo[1], n.lo_z[j] = box.lo[2];
             n.hi_x[j] = box.hi[0], n.hi_y[j] = box.hi[1], n.hi_z[j] = box.hi[2];
             n.child[j] = j < k ? child[j] : kEmptySlot;
+            n.run[j] = j < k && child[j] < 0 ? leaf_run(out.leaves[std::size_t(~child[j])]) : 0;
         }
         return index_here;
     }

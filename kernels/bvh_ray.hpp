@@ -141,8 +141,10 @@ inline unsigned used_children(const Node8& node) {
 // limit], is non-empty (with the slack), and their entry t in `entry`:
 // axis(a, lo, hi, enter, leave) narrows a batch of children's interval by
 // axis a (lo, hi: the batch's bounds on that axis).
+// Always inlined: every walk's inner loop (GCC otherwise keeps it out of
+// line once the walk around it grows).
 template <class Axis>
-inline unsigned test_children(const Node8& node, float tmin, float limit, float entry[kWidth], Axis&& axis) {
+[[gnu::always_inline]] inline unsigned test_children(const Node8& node, float tmin, float limit, float entry[kWidth], Axis&& axis) {
     using N = NodeBatch;
     constexpr int w = int(N::size);
     const float* lo[3] = {node.lo_x, node.lo_y, node.lo_z};
@@ -161,7 +163,7 @@ inline unsigned test_children(const Node8& node, float tmin, float limit, float 
 }
 
 // The children a single ray enters before `limit` (its tbest).
-inline unsigned enter_children(const Node8& node, const SingleRay& r, float limit, float entry[kWidth]) {
+[[gnu::always_inline]] inline unsigned enter_children(const Node8& node, const SingleRay& r, float limit, float entry[kWidth]) {
     using N = NodeBatch;
     return test_children(node, r.tmin, limit, entry, [&](int a, const float* lo, const float* hi, N& enter, N& leave) {
         const N o(r.o[a]), inv(r.inv[a]);  // max(t, acc): a NaN t is dropped

@@ -121,10 +121,12 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
     const Mask<T> neg_x = r.inv_dx < T(0), neg_y = r.inv_dy < T(0), neg_z = r.inv_dz < T(0);
 
     std::int32_t stack_ref[kStackSize];
+    std::uint32_t stack_run[kStackSize];  // a leaf's run word (Node8::run)
     alignas(64) S stack_t[kStackSize][W];  // per lane entry t; NaN: the lane did not enter
     int top = 0;
-    auto push = [&](std::int32_t ref, const T& t) {
+    auto push = [&](std::int32_t ref, std::uint32_t run, const T& t) {
         stack_ref[top] = ref;
+        stack_run[top] = run;
         if constexpr (W == 1) stack_t[top][0] = t;
         else t.store_aligned(stack_t[top]);
         ++top;
@@ -133,14 +135,15 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
         if constexpr (W == 1) return stack_t[top][0];
         else return T::load_aligned(stack_t[top]);
     };
-    push(0, T(-inf));
+    push(0, 0, T(-inf));
     while (top > 0) {
         --top;
         const std::int32_t ref = stack_ref[top];
         const Mask<T> on = group && active && pop_t() <= grow(tbest);
         if (!lane::any(on)) continue;
         if (ref < 0) {  // a leaf: one call for all its lanes, or one per lane where few reach it
-            const Leaf& l = bvh.leaves[std::size_t(~ref)];
+            Leaf scratch;
+            const Leaf& l = leaf_of(bvh.leaves, ref, stack_run[top], scratch);
             if constexpr (takes_lanes<T, LeafFn>) {
                 if (lane::count(on) <= opt.leaf_lanes_alone) {
                     for (unsigned bits = lane::bits(on); bits != 0; bits &= bits - 1) {
@@ -169,6 +172,7 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
         const Node8& node = bvh.nodes[std::size_t(ref)];
         const T limit = tbest;
         std::int32_t hit_ref[kWidth];
+        std::uint32_t hit_run[kWidth];
         T hit_t[kWidth];
         float key[kWidth];
         int hits = 0;
@@ -186,6 +190,7 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
             const Mask<T> in = on && enter <= grow(leave);
             if (!lane::any(in)) continue;
             hit_ref[hits] = node.child[c];
+            hit_run[hits] = node.run[c];
             hit_t[hits] = lane::select(in, enter, T(nan));
             if (Closest && opt.order_packet_children)
                 key[hits] = float(lane::lane0(lane::hmin(lane::select(in, enter, T(inf)))));
@@ -201,7 +206,7 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
             for (; j > 0 && key[order[j - 1]] < key[i]; --j) order[j] = order[j - 1];
             order[j] = i;
         }
-        for (int i = 0; i < hits; ++i) push(hit_ref[order[i]], hit_t[order[i]]);
+        for (int i = 0; i < hits; ++i) push(hit_ref[order[i]], hit_run[order[i]], hit_t[order[i]]);
     }
 }
 

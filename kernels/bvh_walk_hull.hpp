@@ -116,7 +116,8 @@ bool walk_hull(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, cons
             const Node8& up = bvh.nodes[std::size_t(parent)];
             const Mask<T> on = lanes_entering(up, slot, r, active, tbest);
             if (lane::any(on)) {
-                const Leaf& l = bvh.leaves[std::size_t(~ref)];
+                Leaf scratch;
+                const Leaf& l = leaf_of(bvh.leaves, ref, up.run[slot], scratch);
                 if constexpr (takes_lanes<T, LeafFn>) {
                     if (lane::count(on) <= leaf_lanes_alone) {
                         for (unsigned bits = lane::bits(on); bits != 0; bits &= bits - 1) {

@@ -48,12 +48,14 @@ template <bool Closest, class T, class LeafFn>
 void walk_single(const Bvh8& bvh, std::int32_t start, float start_t, const SingleRay& r, int i,
                  const Mask<T>& active, const T& tbest, LeafFn& leaf) {
     std::int32_t stack_ref[kStackSize];
+    std::uint32_t stack_run[kStackSize];  // a leaf's run word (Node8::run)
     float stack_t[kStackSize];
     int top = 0;
     const Mask<T> alone = lane_alone<T>(i);
     float limit = float(lane_value(tbest, i));
     alignas(32) float entry[kWidth];
     std::int32_t ref = start;
+    std::uint32_t run = 0;
     if (start_t > grow(limit)) return;
     for (;;) {
         if (ref >= 0) {
@@ -63,16 +65,17 @@ void walk_single(const Bvh8& bvh, std::int32_t start, float start_t, const Singl
                 const int first = __builtin_ctz(bits);
                 bits &= bits - 1;
                 if (bits == 0) {  // one child: straight on
-                    ref = node.child[first];
+                    ref = node.child[first], run = node.run[first];
                     continue;
                 }
                 if (!Closest) {  // any order: the first slot next, the rest pushed
                     for (; bits != 0; bits &= bits - 1) {
                         const int c = __builtin_ctz(bits);
                         stack_ref[top] = node.child[c];
+                        stack_run[top] = node.run[c];
                         stack_t[top++] = entry[c];
                     }
-                    ref = node.child[first];
+                    ref = node.child[first], run = node.run[first];
                     continue;
                 }
                 const int second = __builtin_ctz(bits);
@@ -81,8 +84,9 @@ void walk_single(const Bvh8& bvh, std::int32_t start, float start_t, const Singl
                     const bool keep = entry[first] < entry[second];
                     const int near = keep ? first : second, far = keep ? second : first;
                     stack_ref[top] = node.child[far];
+                    stack_run[top] = node.run[far];
                     stack_t[top++] = entry[far];
-                    ref = node.child[near];
+                    ref = node.child[near], run = node.run[near];
                     continue;
                 }
                 // Three or more: insertion sort, farthest first onto the
@@ -91,13 +95,15 @@ void walk_single(const Bvh8& bvh, std::int32_t start, float start_t, const Singl
                 const int n = order_children(bits | (1u << first) | (1u << second), entry, true, idx);
                 for (int a = 0; a + 1 < n; ++a) {
                     stack_ref[top] = node.child[idx[a]];
+                    stack_run[top] = node.run[idx[a]];
                     stack_t[top++] = entry[idx[a]];
                 }
-                ref = node.child[idx[n - 1]];
+                ref = node.child[idx[n - 1]], run = node.run[idx[n - 1]];
                 continue;
             }
         } else {
-            visit_lane<T>(leaf, bvh.leaves[std::size_t(~ref)], i, alone);
+            Leaf scratch;
+            visit_lane<T>(leaf, leaf_of(bvh.leaves, ref, run, scratch), i, alone);
             if constexpr (Closest) limit = float(lane_value(tbest, i));
             else if (!lane_on(lane::bits(active), i)) return;
         }
@@ -107,7 +113,7 @@ void walk_single(const Bvh8& bvh, std::int32_t start, float start_t, const Singl
             --top;
             if (!(stack_t[top] > grow(limit))) break;
         }
-        ref = stack_ref[top];
+        ref = stack_ref[top], run = stack_run[top];
     }
 }
 

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <cstring>
 #include <vector>
 
 namespace octray::test {
@@ -68,6 +69,19 @@ struct BoxScene {
                 for (std::uint32_t p = tree.leaves[l].begin[k]; p < tree.leaves[l].begin[k] + tree.leaves[l].count[k]; ++p)
                     out[input_of[std::size_t(k)][p]] = l;
         return out;
+    }
+    // The index in tree.leaves of the leaf a walk handed over (a walk may
+    // hand a copy decoded from the parent's run word, Node8::run); -1 when
+    // it is no leaf of the tree.
+    std::ptrdiff_t index_of(const bvh::Leaf& l) const {
+        for (std::size_t i = 0; i < tree.leaves.size(); ++i)
+            if (std::memcmp(tree.leaves[i].count, l.count, sizeof l.count) == 0 && l.size() > 0) {
+                bool same = true;
+                for (int k = 0; k < bvh::kMaxKinds; ++k)
+                    if (l.count[k] > 0 && l.begin[k] != tree.leaves[i].begin[k]) same = false;
+                if (same) return std::ptrdiff_t(i);
+            }
+        return -1;
     }
     template <class Fn>
     void for_each_box(const bvh::Leaf& l, Fn&& fn) const {
@@ -158,7 +172,7 @@ void check_walks(std::uint32_t seed, int packets) {
                 std::vector<std::vector<char>> visited(W, std::vector<char>(leaves.size(), 0));
                 bool bad_leaf = false;
                 auto record = [&](const bvh::Leaf& l, const lane::Mask<T>& lanes) {
-                    const std::ptrdiff_t k = &l - leaves.data();
+                    const std::ptrdiff_t k = scene.index_of(l);
                     if (k < 0 || std::size_t(k) >= leaves.size()) return void(bad_leaf = true);
                     const unsigned bits = lane::bits(lanes);
                     for (int i = 0; i < W; ++i)

@@ -91,6 +91,7 @@ void check_tree(const BuildInput& in, const Bvh8& t, const BuildOptions& opt) {
         if (f.node != 0) CHECK(used >= 2);  // only the root of a one-leaf tree has one child
         for (int j = 0; j < bvh::kWidth; ++j) {
             const Box b = node.bounds(j);
+            if (node.child[j] >= 0 || j >= used) CHECK(node.run[j] == 0);
             if (j >= used) {
                 CHECK(node.child[j] == bvh::kEmptySlot);
                 for (int a = 0; a < 3; ++a) {
@@ -109,6 +110,17 @@ void check_tree(const BuildInput& in, const Bvh8& t, const BuildOptions& opt) {
             REQUIRE(std::size_t(~c) < t.leaves.size());
             ++leaf_seen[std::size_t(~c)];
             const Leaf& l = t.leaves[std::size_t(~c)];
+            // The parent's run word: the leaf's one run, or 0 where it has
+            // several kinds (or does not fit); decoded, the same primitives.
+            Leaf scratch;
+            const Leaf& inline_leaf = bvh::leaf_of(t.leaves, c, node.run[j], scratch);
+            int kinds = 0;
+            for (int k = 0; k < bvh::kMaxKinds; ++k) {
+                kinds += l.count[k] > 0;
+                CHECK(inline_leaf.count[k] == l.count[k]);
+                if (l.count[k] > 0) CHECK(inline_leaf.begin[k] == l.begin[k]);
+            }
+            CHECK((node.run[j] != 0) == (kinds == 1 && l.size() <= 31 && t.primitive_count() < (1u << 24)));
             for (int k = 0; k < in.kind_count; ++k)
                 for (std::uint32_t p = l.begin[k]; p < l.begin[k] + l.count[k]; ++p) {
                     const Box& pb = in.boxes[input_of.at({k, t.order[std::size_t(k)][p]})];
