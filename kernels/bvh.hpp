@@ -143,17 +143,16 @@ struct Bvh8 {
     std::vector<Leaf> leaves;
     // order[k][position] = the caller's index (BuildInput::index_in_kind) of
     // the primitive of kind k now at `position`; one vector per kind used.
+    // Only the caller's reordering reads it: the caller may release it
+    // (compile() does), the walks never read it.
     std::vector<std::vector<std::uint32_t>> order;
     Box bounds = Box::empty();  // of every primitive
     int depth = 0;              // levels of inner nodes (root alone: 1); 0 when empty
     int kind_count = 0;
+    std::size_t primitives = 0;
 
     bool empty() const { return nodes.empty(); }
-    std::size_t primitive_count() const {
-        std::size_t n = 0;
-        for (const auto& o : order) n += o.size();
-        return n;
-    }
+    std::size_t primitive_count() const { return primitives; }
     // Memory held (nodes, leaves and the permutations).
     std::size_t bytes() const {
         std::size_t b = nodes.size() * sizeof(Node8) + leaves.size() * sizeof(Leaf);

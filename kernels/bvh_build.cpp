@@ -118,6 +118,7 @@ Bvh8 build_bvh8(const BuildInput& in, const BuildOptions& opt) {
 
     Bvh8 out;
     out.kind_count = in.kind_count;
+    out.primitives = n;
     out.order.resize(std::size_t(in.kind_count));
     if (n == 0) return out;
     for (int k = 0; k < in.kind_count; ++k) out.order[std::size_t(k)].reserve(per_kind[std::size_t(k)]);

@@ -38,6 +38,30 @@ void pad(A&... arrays) {
     (one(arrays), ...);
 }
 
+// Room for each type's arrays: its primitives, then the padding compile()
+// adds (a whole packet width past the last one, rounded up to a multiple of
+// it), so no array regrows (a grown vector holds up to twice its size).
+void reserve_arrays(SceneData& s) {
+    auto room = [&](PrimitiveType type, std::initializer_list<Floats*> arrays) {
+        if (s.count[std::size_t(type)] == 0) return;  // padded to one width only
+        const std::size_t n = std::size_t(s.count[std::size_t(type)]) + 2 * std::size_t(kPacketWidth);
+        for (Floats* a : arrays) a->reserve(n);
+    };
+    auto& sp = s.spheres;
+    room(PrimitiveType::sphere, {&sp.cx, &sp.cy, &sp.cz, &sp.inv_radius, &sp.radius, &sp.cx_lo, &sp.cy_lo, &sp.cz_lo});
+    auto& p = s.planes;
+    room(PrimitiveType::plane, {&p.px, &p.py, &p.pz, &p.nx, &p.ny, &p.nz});
+    auto& d = s.disks;
+    room(PrimitiveType::disk, {&d.cx, &d.cy, &d.cz, &d.nx, &d.ny, &d.nz, &d.radius2});
+    auto& r = s.rectangles;
+    room(PrimitiveType::rectangle, {&r.cx, &r.cy, &r.cz, &r.nx, &r.ny, &r.nz, &r.dual_ax, &r.dual_ay, &r.dual_az,
+                                    &r.dual_bx, &r.dual_by, &r.dual_bz});
+    auto& b = s.boxes;
+    room(PrimitiveType::box, {&b.minx, &b.miny, &b.minz, &b.maxx, &b.maxy, &b.maxz});
+    auto& t = s.triangles;
+    room(PrimitiveType::triangle, {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz});
+}
+
 // x rounded to a float no greater (down) or no smaller (up) than x.
 float round_down(double x) {
     const float f = float(x);
@@ -197,7 +221,12 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     s.bvh = bvh::build_bvh8(input, build_options(options));
     if (options.acceleration == CompileOptions::Acceleration::none) open_every_node(s.bvh);
 
+    // The tree's permutations are read once, below: not kept.
+    const std::vector<std::vector<std::uint32_t>> order = std::move(s.bvh.order);
+    s.bvh.order.clear();
+    reserve_arrays(s);
     const std::size_t total = id;
+    for (Floats* f : {&s.object_of, &s.material_of, &s.mesh_of, &s.compiled_of}) f->reserve(total + std::size_t(kPacketWidth));
     s.object_of.resize(total);
     s.material_of.resize(total);
     s.mesh_of.assign(total, -1.0f);
@@ -206,7 +235,7 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
         const std::vector<std::size_t>& ids = of_type[std::size_t(type)];
         for (std::size_t pos = 0; pos < ids.size(); ++pos) {
             const bool planes = type == int(PrimitiveType::plane);
-            const std::size_t i = ids[planes ? pos : s.bvh.order[std::size_t(type)][pos]];
+            const std::size_t i = ids[planes ? pos : order[std::size_t(type)][pos]];
             const std::size_t cid = std::size_t(s.offset[std::size_t(type)]) + pos;
             s.object_of[cid] = float(i);
             s.compiled_of[i] = float(cid);
@@ -232,7 +261,8 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     pad(sp.cx, sp.cy, sp.cz, sp.inv_radius, sp.radius, sp.cx_lo, sp.cy_lo, sp.cz_lo);
     // Float centres leave every residual zero: no arrays, and the normal reads none.
     auto is_zero = [](const Floats& f) { return std::all_of(f.begin(), f.end(), [](float x) { return x == 0.0f; }); };
-    if (is_zero(sp.cx_lo) && is_zero(sp.cy_lo) && is_zero(sp.cz_lo)) sp.cx_lo = {}, sp.cy_lo = {}, sp.cz_lo = {};
+    if (is_zero(sp.cx_lo) && is_zero(sp.cy_lo) && is_zero(sp.cz_lo))
+        for (Floats* f : {&sp.cx_lo, &sp.cy_lo, &sp.cz_lo}) Floats().swap(*f);  // released (= {} keeps the capacity)
     pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
     pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);
     auto& r = s.rectangles;
