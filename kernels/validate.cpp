@@ -38,44 +38,59 @@ std::string format_number(double d) {
     return buf;
 }
 
-std::string element(const std::string& path, int i) { return path + "[" + std::to_string(i) + "]"; }
+// A Scene path ("objects[3].radius") as a chain of parts on the stack,
+// spelled out only when something fails: a valid scene of a million objects
+// builds no strings.
+struct Path {
+    const Path* parent = nullptr;
+    const char* member = nullptr;  // ".radius", or a root name; null: the index
+    long index = 0;
+
+    Path(const char* root) : member(root) {}  // NOLINT: implicit from a root name
+    Path(const Path& p, const char* m) : parent(&p), member(m) {}
+    Path(const Path& p, long i) : parent(&p), index(i) {}
+    std::string str() const {
+        std::string s = parent ? parent->str() : std::string();
+        return member ? s + member : s + "[" + std::to_string(index) + "]";
+    }
+};
 double component(const Vec3d& v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; }
 double length(const Vec3d& v) { return std::sqrt(dot(v, v)); }
 bool is_zero(const Vec3d& v) { return v.x == 0 && v.y == 0 && v.z == 0; }
 bool is_finite(const Vec3d& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) { throw InvalidScene(path, what); }
+[[noreturn]] void fail(const Path& path, const std::string& what) { throw InvalidScene(path.str(), what); }
 
-void finite(const std::string& path, double v) {
+void finite(const Path& path, double v) {
     if (!std::isfinite(v)) fail(path, "must be finite, got " + format_number(v));
 }
-void finite(const std::string& path, const Vec3d& v) {
-    for (int k = 0; k < 3; ++k) finite(element(path, k), component(v, k));
+void finite(const Path& path, const Vec3d& v) {
+    for (int k = 0; k < 3; ++k) finite(Path(path, k), component(v, k));
 }
-void non_negative(const std::string& path, double v) {
+void non_negative(const Path& path, double v) {
     finite(path, v);
     if (v < 0) fail(path, "must be >= 0, got " + format_number(v));
 }
-void positive(const std::string& path, double v) {
+void positive(const Path& path, double v) {
     finite(path, v);
     if (!(v > 0)) fail(path, "must be > 0, got " + format_number(v));
 }
 // HDR colours are unbounded above; a display colour (max = 1) is not.
-void colour(const std::string& path, const Vec3d& c, double max = INFINITY) {
+void colour(const Path& path, const Vec3d& c, double max = INFINITY) {
     for (int k = 0; k < 3; ++k) {
         const double x = component(c, k);
-        finite(element(path, k), x);
-        if (x < 0) fail(element(path, k), "colour components must be >= 0, got " + format_number(x));
+        finite(Path(path, k), x);
+        if (x < 0) fail(Path(path, k), "colour components must be >= 0, got " + format_number(x));
         if (x > max)
-            fail(element(path, k), "colour components must be <= " + format_number(max) + ", got " + format_number(x));
+            fail(Path(path, k), "colour components must be <= " + format_number(max) + ", got " + format_number(x));
     }
 }
 // Any finite, non-zero vector: every path uses unit_direction() of it.
-void direction(const std::string& path, const Vec3d& d) {
+void direction(const Path& path, const Vec3d& d) {
     finite(path, d);
     if (is_zero(d)) fail(path, "must not be zero-length");
 }
-void image_size(const std::string& path, int n) {
+void image_size(const Path& path, int n) {
     if (n < 1 || n > kMaxImageSide)
         fail(path, "must be in [1, " + std::to_string(kMaxImageSide) + "], got " + std::to_string(n));
 }
@@ -94,15 +109,15 @@ void camera(const Camera& c) {
         fail("camera.up", "is parallel to the view direction (eye - look_at)");
 }
 
-void rectangle(const std::string& p, const Rectangle& r) {
-    finite(p + ".corner", r.corner);
-    direction(p + ".a", r.a), direction(p + ".b", r.b);
+void rectangle(const Path& p, const Rectangle& r) {
+    finite(Path(p, ".corner"), r.corner);
+    direction(Path(p, ".a"), r.a), direction(Path(p, ".b"), r.b);
     if (length(cross(unit_direction(r.a), unit_direction(r.b))) < kDegenerateSine)
         fail(p, "is degenerate: a and b are parallel (|a x b| ~ 0 relative to |a||b|)");
 }
 
-void box(const std::string& p, const Box& b) {
-    finite(p + ".min", b.min), finite(p + ".max", b.max);
+void box(const Path& p, const Box& b) {
+    finite(Path(p, ".min"), b.min), finite(Path(p, ".max"), b.max);
     for (int k = 0; k < 3; ++k) {
         const double lo = component(b.min, k), hi = component(b.max, k);
         if (!(lo < hi)) {
@@ -114,9 +129,9 @@ void box(const std::string& p, const Box& b) {
 }
 
 // Zero area relative to the longest edge: collinear or coincident vertices.
-void triangle(const std::string& p, const Triangle& t) {
-    const std::string vertices = p + ".vertices";
-    finite(element(vertices, 0), t.v0), finite(element(vertices, 1), t.v1), finite(element(vertices, 2), t.v2);
+void triangle(const Path& p, const Triangle& t) {
+    const Path vertices(p, ".vertices");
+    finite(Path(vertices, 0L), t.v0), finite(Path(vertices, 1L), t.v1), finite(Path(vertices, 2L), t.v2);
     Vec3d e[3] = {t.v1 - t.v0, t.v2 - t.v0, t.v2 - t.v1};
     double m = 0;
     for (const Vec3d& v : e) m = std::max({m, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
@@ -129,16 +144,16 @@ void triangle(const std::string& p, const Triangle& t) {
     fail(p, "is degenerate: zero area relative to its edge lengths (collinear or coincident vertices)");
 }
 
-void shape(const std::string& p, const Shape& shape) {
+void shape(const Path& p, const Shape& shape) {
     std::visit(
         [&](const auto& s) {
             using S = std::decay_t<decltype(s)>;
             if constexpr (std::is_same_v<S, Sphere>) {
-                finite(p + ".center", s.center), positive(p + ".radius", s.radius);
+                finite(Path(p, ".center"), s.center), positive(Path(p, ".radius"), s.radius);
             } else if constexpr (std::is_same_v<S, Plane>) {
-                finite(p + ".point", s.point), direction(p + ".normal", s.normal);
+                finite(Path(p, ".point"), s.point), direction(Path(p, ".normal"), s.normal);
             } else if constexpr (std::is_same_v<S, Disk>) {
-                finite(p + ".center", s.center), direction(p + ".normal", s.normal), positive(p + ".radius", s.radius);
+                finite(Path(p, ".center"), s.center), direction(Path(p, ".normal"), s.normal), positive(Path(p, ".radius"), s.radius);
             } else if constexpr (std::is_same_v<S, Rectangle>) {
                 rectangle(p, s);
             } else if constexpr (std::is_same_v<S, Box>) {
@@ -150,14 +165,14 @@ void shape(const std::string& p, const Shape& shape) {
         shape);
 }
 
-void occlusion(const std::string& path, const AmbientOcclusion& o, bool ambient) {
+void occlusion(const Path& path, const AmbientOcclusion& o, bool ambient) {
     if (!ambient) fail(path, "needs an ambient light (Scene::ambient) to occlude");
     if (o.samples < 1 || o.samples > AmbientOcclusion::kMaxSamples)
-        fail(path + ".samples", "must be in [1, " + std::to_string(AmbientOcclusion::kMaxSamples) + "], got " +
+        fail(Path(path, ".samples"), "must be in [1, " + std::to_string(AmbientOcclusion::kMaxSamples) + "], got " +
                                     std::to_string(o.samples));
-    positive(path + ".distance", o.distance);
-    non_negative(path + ".min_amount", o.min_amount);
-    if (o.min_amount > 1) fail(path + ".min_amount", "must be in [0, 1], got " + format_number(o.min_amount));
+    positive(Path(path, ".distance"), o.distance);
+    non_negative(Path(path, ".min_amount"), o.min_amount);
+    if (o.min_amount > 1) fail(Path(path, ".min_amount"), "must be in [0, 1], got " + format_number(o.min_amount));
 }
 
 }  // namespace
@@ -169,25 +184,25 @@ std::string InvalidScene::problem() const { return std::string(what() + path_siz
 
 namespace {
 
-void mesh(const std::string& p, const Mesh& m, const Scene& scene) {
+void mesh(const Path& p, const Mesh& m, const Scene& scene) {
     if (m.material < 0 || std::size_t(m.material) >= scene.materials.size())
-        fail(p + ".material", "index " + std::to_string(m.material) + ", but there are " +
+        fail(Path(p, ".material"), "index " + std::to_string(m.material) + ", but there are " +
                                   std::to_string(scene.materials.size()) + " materials");
     if (m.indices.size() % 3 != 0)
-        fail(p + ".indices", "must hold three per triangle, got " + std::to_string(m.indices.size()));
+        fail(Path(p, ".indices"), "must hold three per triangle, got " + std::to_string(m.indices.size()));
     if (m.indices.empty()) fail(p, "has no triangles");
     for (std::size_t v = 0; v < m.vertices.size(); ++v)
         if (!std::isfinite(m.vertices[v].x) || !std::isfinite(m.vertices[v].y) || !std::isfinite(m.vertices[v].z))
-            fail(p + ".vertices[" + std::to_string(v) + "]", "must be finite");
+            fail(Path(Path(p, ".vertices"), long(v)), "must be finite");
     for (std::size_t k = 0; k < m.indices.size(); ++k)
         if (m.indices[k] >= m.vertices.size())
-            fail(p + ".indices[" + std::to_string(k) + "]", "index " + std::to_string(m.indices[k]) + " out of range (" +
+            fail(Path(Path(p, ".indices"), long(k)), "index " + std::to_string(m.indices[k]) + " out of range (" +
                                                                 std::to_string(m.vertices.size()) + " vertices)");
     for (std::size_t k = 0; k < m.indices.size(); k += 3) {
         const Vec3d& a = m.vertices[m.indices[k]];
         const Vec3d n = cross(m.vertices[m.indices[k + 1]] - a, m.vertices[m.indices[k + 2]] - a);
         if (n.x == 0 && n.y == 0 && n.z == 0)
-            fail(p + ".indices[" + std::to_string(k) + "]", "triangle " + std::to_string(k / 3) + " has zero area");
+            fail(Path(Path(p, ".indices"), long(k)), "triangle " + std::to_string(k / 3) + " has zero area");
     }
 }
 
@@ -207,19 +222,21 @@ Vec3d unit_direction(const Vec3d& v) {
 }
 
 void validate(const Scene& scene) {
+    const Path directional_lights_root("directional_lights"), point_lights_root("point_lights"),
+        materials_root("materials"), objects_root("objects");
     camera(scene.camera);
     colour("background", scene.background);
     if (scene.ambient) colour("ambient.color", scene.ambient->color), non_negative("ambient.ls", scene.ambient->ls);
     if (scene.ambient_occlusion) occlusion("ambient_occlusion", *scene.ambient_occlusion, scene.ambient.has_value());
     for (std::size_t i = 0; i < scene.directional_lights.size(); ++i) {
-        const std::string p = "directional_lights[" + std::to_string(i) + "]";
+        const Path p(directional_lights_root, long(i));
         const DirectionalLight& l = scene.directional_lights[i];
-        direction(p + ".direction", l.direction), colour(p + ".color", l.color), non_negative(p + ".ls", l.ls);
+        direction(Path(p, ".direction"), l.direction), colour(Path(p, ".color"), l.color), non_negative(Path(p, ".ls"), l.ls);
     }
     for (std::size_t i = 0; i < scene.point_lights.size(); ++i) {
-        const std::string p = "point_lights[" + std::to_string(i) + "]";
+        const Path p(point_lights_root, long(i));
         const PointLight& l = scene.point_lights[i];
-        finite(p + ".position", l.position), colour(p + ".color", l.color), non_negative(p + ".ls", l.ls);
+        finite(Path(p, ".position"), l.position), colour(Path(p, ".color"), l.color), non_negative(Path(p, ".ls"), l.ls);
     }
     if (scene.materials.size() > kMaxMaterials)
         fail("materials", "too many: " + std::to_string(scene.materials.size()) + " (limit " +
@@ -228,19 +245,19 @@ void validate(const Scene& scene) {
         fail("objects", "too many primitives: " + std::to_string(n) + " objects and mesh triangles (limit " +
                             std::to_string(kMaxPrimitives) + ")");
     for (std::size_t i = 0; i < scene.materials.size(); ++i) {
-        const std::string p = "materials[" + std::to_string(i) + "]";
+        const Path p(materials_root, long(i));
         const Material& m = scene.materials[i];
-        non_negative(p + ".ka", m.ka), non_negative(p + ".kd", m.kd), colour(p + ".cd", m.cd);
+        non_negative(Path(p, ".ka"), m.ka), non_negative(Path(p, ".kd"), m.kd), colour(Path(p, ".cd"), m.cd);
     }
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const std::string p = "objects[" + std::to_string(i) + "]";
+        const Path p(objects_root, long(i));
         const Object& o = scene.objects[i];
         if (o.material < 0 || std::size_t(o.material) >= scene.materials.size())
-            fail(p + ".material", "index " + std::to_string(o.material) + ", but there are " +
+            fail(Path(p, ".material"), "index " + std::to_string(o.material) + ", but there are " +
                                       std::to_string(scene.materials.size()) + " materials");
         shape(p, o.shape);
     }
-    for (std::size_t i = 0; i < scene.meshes.size(); ++i) mesh("meshes[" + std::to_string(i) + "]", scene.meshes[i], scene);
+    for (std::size_t i = 0; i < scene.meshes.size(); ++i) mesh(Path(Path("meshes"), long(i)), scene.meshes[i], scene);
     positive("render.gamma", scene.render.gamma);
     colour("render.clamp_color", scene.render.clamp_color, 1.0);
 }
