@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 namespace octray::bvh {
 
@@ -30,6 +31,17 @@ struct Hull {
     bool neg[3];
 };
 
+}  // namespace detail
+
+// What a hull walk hands a leaf function that takes it, with the lanes: the
+// packet's hull and the greatest tbest of its active lanes (hull_boxes).
+struct InHull {
+    const detail::Hull& hull;
+    float limit;
+};
+
+namespace detail {
+
 template <class T>
 inline bool make_hull(const RayView<T>& r, const Mask<T>& active, Hull& h) {
     const T inf(std::numeric_limits<float>::infinity());
@@ -49,19 +61,42 @@ inline bool make_hull(const RayView<T>& r, const Mask<T>& active, Hull& h) {
     return true;
 }
 
+// Narrows a batch of boxes' interval [enter, leave] by axis a of the hull
+// (lo, hi: the boxes' bounds on that axis): the smallest entry and the
+// greatest exit any ray of the hull has there.
+template <class N>
+[[gnu::always_inline]] inline void hull_axis(const Hull& h, int a, const N& lo, const N& hi, N& enter, N& leave) {
+    const N inv_lo(h.inv_lo[a]), inv_hi(h.inv_hi[a]);
+    // d > 0: t falls as o grows; d < 0: it rises (near - o and 1/d of opposite signs there).
+    const N near_d = (h.neg[a] ? hi : lo) - N(h.neg[a] ? h.o_lo[a] : h.o_hi[a]);
+    const N far_d = (h.neg[a] ? lo : hi) - N(h.neg[a] ? h.o_hi[a] : h.o_lo[a]);
+    enter = lane::max(lane::min(near_d * inv_lo, near_d * inv_hi), enter);
+    leave = lane::min(lane::max(far_d * inv_lo, far_d * inv_hi), leave);
+}
+
 // The children the hull enters before `limit` (the greatest tbest of the
 // active lanes), with the hull's entry bounds in `entry`.
 inline unsigned hull_children(const Node8& node, const Hull& h, float limit, float entry[kWidth]) {
     using N = NodeBatch;
     return test_children(node, h.tmin, limit, entry, [&](int a, const float* lo, const float* hi, N& enter, N& leave) {
-        const N inv_lo(h.inv_lo[a]), inv_hi(h.inv_hi[a]);
-        // d > 0: t falls as o grows; d < 0: it rises (near - o and 1/d of opposite signs there).
-        const N near_d = N::load_aligned(h.neg[a] ? hi : lo) - N(h.neg[a] ? h.o_lo[a] : h.o_hi[a]);
-        const N far_d = N::load_aligned(h.neg[a] ? lo : hi) - N(h.neg[a] ? h.o_hi[a] : h.o_lo[a]);
-        enter = lane::max(lane::min(near_d * inv_lo, near_d * inv_hi), enter);
-        leave = lane::min(lane::max(far_d * inv_lo, far_d * inv_hi), leave);
+        hull_axis(h, a, N::load_aligned(lo), N::load_aligned(hi), enter, leave);
     });
 }
+
+}  // namespace detail
+
+// The boxes of a batch (lane j: [lo[.][j], hi[.][j]]) that some ray of the
+// hull enters within [tmin, limit], with the walks' slack: a leaf function
+// handed the hull (see walk_hull) skips the primitives whose boxes, as
+// conservative as the tree's, no lane of the packet can enter.
+template <class N>
+inline unsigned hull_boxes(const detail::Hull& h, float limit, const N lo[3], const N hi[3]) {
+    N enter(h.tmin), leave(limit);
+    for (int a = 2; a >= 0; --a) detail::hull_axis(h, a, lo[a], hi[a], enter, leave);
+    return unsigned(lane::bits(enter <= detail::grow(leave)));
+}
+
+namespace detail {
 
 // The lanes of `on` that enter child c of `node` before their tbest (the
 // packet walk's own test).
@@ -79,6 +114,14 @@ inline Mask<T> lanes_entering(const Node8& node, int c, const RayView<T>& r, con
     axis(node.lo_y[c], node.hi_y[c], r.oy, r.inv_dy, enter, leave);
     axis(node.lo_x[c], node.hi_x[c], r.ox, r.inv_dx, enter, leave);
     return on && enter <= grow(leave);
+}
+
+// A leaf reached by the lanes `on` of a hull walk: with the hull and the
+// walk's limit where the leaf function takes them (InHull).
+template <class T, class LeafFn>
+inline void visit_hull(LeafFn& leaf, const Leaf& l, const Mask<T>& on, const Hull& h, float limit) {
+    if constexpr (std::is_invocable_v<LeafFn&, const Leaf&, const Mask<T>&, const InHull&>) leaf(l, on, InHull{h, limit});
+    else leaf(l, on);
 }
 
 template <bool Closest, class T, class LeafFn>
@@ -125,10 +168,10 @@ bool walk_hull(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, cons
                             if (!Closest && !lane::any(active)) return true;
                         }
                     } else {
-                        leaf(l, on);
+                        visit_hull<T>(leaf, l, on, h, limit);
                     }
                 } else {
-                    leaf(l, on);
+                    visit_hull<T>(leaf, l, on, h, limit);
                 }
                 if (!Closest && !lane::any(active)) return true;
                 limit = farthest();

@@ -54,6 +54,48 @@ inline constexpr bool kRunTested = Type == PrimitiveType::sphere || Type == Prim
 // No run tests: every leaf's primitives are tested against the packet.
 struct NoRunTest {};
 
+// Where a run test's lanes stand: lane j tests primitive k0 + j; lanes past
+// the run's n primitives are off.
+template <class T>
+inline Mask<T> run_lanes(int n) {
+    alignas(64) static constexpr float kIota[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+    return load<T>(kIota, 0) < T(float(n));
+}
+
+// The boxes of primitives k .. k + width - 1 of a kRunTested type, in the
+// lanes, each at least the tree's box of that primitive (box_of in
+// packet_scene.cpp: the float data's box widened by 2^-20 of its size and
+// position). These are widened by 2^-18 of the same, which covers that and
+// the rounding of this float arithmetic (a few 2^-24).
+template <PrimitiveType Type, class T>
+OCTRAY_HOT void run_boxes(const SceneData& s, int k, T lo[3], T hi[3]) {
+    if constexpr (Type == PrimitiveType::sphere) {
+        const SphereArrays& a = s.spheres;
+        const T c[3] = {load<T>(a.cx.data(), k), load<T>(a.cy.data(), k), load<T>(a.cz.data(), k)};
+        const T r = load<T>(a.radius.data(), k);
+        const T far = lane::max(lane::max(lane::abs(c[0]), lane::abs(c[1])), lane::abs(c[2]));
+        const T half = r + (far + T(3) * r) * T(0x1p-18f);
+        for (int i = 0; i < 3; ++i) lo[i] = c[i] - half, hi[i] = c[i] + half;
+    } else {
+        static_assert(Type == PrimitiveType::triangle, "run tests: spheres and triangles");
+        const TriangleArrays& a = s.triangles;
+        const Floats* v[3][3] = {{&a.ax, &a.bx, &a.cx}, {&a.ay, &a.by, &a.cy}, {&a.az, &a.bz, &a.cz}};
+        T size(0), far(0);
+        for (int i = 0; i < 3; ++i) {
+            const T p = load<T>(v[i][0]->data(), k), q = load<T>(v[i][1]->data(), k), w = load<T>(v[i][2]->data(), k);
+            lo[i] = lane::min(lane::min(p, q), w), hi[i] = lane::max(lane::max(p, q), w);
+            size = lane::max(size, hi[i] - lo[i]);
+            far = lane::max(far, lane::max(lane::abs(lo[i]), lane::abs(hi[i])));
+        }
+        const T e = (size + far) * T(0x1p-18f);
+        for (int i = 0; i < 3; ++i) lo[i] = lo[i] - e, hi[i] = hi[i] + e;
+    }
+}
+
+// A run of at least this many primitives reached by a hull walk's packet is
+// culled against the hull first (run_boxes, bvh::hull_boxes).
+inline constexpr int kHullCullRun = 2;
+
 // Calls test(TypeTag<type>{}, k) for every primitive k (index within its
 // type) of every leaf some valid lane of r may reach before its `limit`:
 // `closest` walks nearest first and re-reads limit (the caller's best t) after
@@ -98,6 +140,27 @@ OCTRAY_HOT void for_each_candidate(const SceneData& s, const Ray<T, P>& r, const
                 else test_each(tag, k0, n);
             });
         };
+        // A hull walk's packet: the primitives of a run whose boxes the
+        // packet's hull misses are not tested (most of a leaf, for a packet
+        // of neighbouring camera rays), the rest in the same order as
+        // packet_leaf's.
+        auto hull_leaf = [&](const bvh::Leaf& l, const Mask<T>&, const bvh::InHull& in) OCTRAY_HOT_LAMBDA {
+            each_run(l, [&](auto tag, int k0, int n) OCTRAY_HOT_LAMBDA {
+                constexpr PrimitiveType type = decltype(tag)::value;
+                if constexpr (kRuns && kRunTested<type>) {
+                    if (n >= kHullCullRun) {
+                        for (int j = 0; j < n; j += lane::width<T>) {
+                            T lo[3], hi[3];
+                            run_boxes<type>(s, k0 + j, lo, hi);
+                            unsigned bits = bvh::hull_boxes(in.hull, in.limit, lo, hi) & lane::bits(run_lanes<T>(n - j));
+                            for (; bits != 0; bits &= bits - 1) test(tag, k0 + j + __builtin_ctz(bits));
+                        }
+                        return;
+                    }
+                }
+                test_each(tag, k0, n);
+            });
+        };
         auto walk = [&](auto&& leaf) OCTRAY_HOT_LAMBDA {
             if (s.bvh.primitive_count() <= kTestAll) {
                 // A leaf's worth of primitives (aobench's three spheres, a
@@ -114,7 +177,7 @@ OCTRAY_HOT void for_each_candidate(const SceneData& s, const Ray<T, P>& r, const
                 bvh::traverse_any(s.bvh, ray_view(r), active, limit, leaf);
             }
         };
-        if constexpr (kRuns) walk(Overloaded{packet_leaf, lane_leaf});
+        if constexpr (kRuns) walk(Overloaded{packet_leaf, lane_leaf, hull_leaf});
         else walk(packet_leaf);
     }
 }

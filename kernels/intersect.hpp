@@ -90,13 +90,6 @@ struct LaneRay {
     }
 };
 
-// Where a run test's lanes stand: lane j tests primitive k0 + j; lanes past
-// the run's n primitives are off.
-template <class T>
-inline Mask<T> run_lanes(int n) {
-    alignas(64) static constexpr float kIota[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
-    return load<T>(kIota, 0) < T(float(n));
-}
 template <class T>
 inline Vec3<T> load_run3(const Floats& x, const Floats& y, const Floats& z, int k) {
     return {load<T>(x.data(), k), load<T>(y.data(), k), load<T>(z.data(), k)};
