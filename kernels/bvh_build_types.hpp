@@ -214,7 +214,7 @@ std::uint32_t partition(Ref* refs, Ref* scratch, std::uint32_t begin, std::uint3
 // invalid_argument naming `what` unless ok (the option checks).
 void build_node(const Context& ctx, std::uint32_t node, std::uint32_t begin, std::uint32_t end, Bounds bounds,
                 int depth);
-void check(bool ok, const std::string& what);
+void check(bool ok, const char* what);
 
 // bvh_collapse.cpp: the wide tree from the binary one (step 3): out's nodes,
 // leaves, per-kind order and depth. kind: null for all kind 0; index: each

@@ -43,7 +43,7 @@ void pad(A&... arrays) {
 // it), so no array regrows (a grown vector holds up to twice its size).
 void reserve_arrays(SceneData& s) {
     auto room = [&](PrimitiveType type, std::initializer_list<Floats*> arrays) {
-        if (s.count[std::size_t(type)] == 0) return;  // padded to one width only
+        if (s.count[std::size_t(type)] == 0) return;  // stays empty
         const std::size_t n = std::size_t(s.count[std::size_t(type)]) + 2 * std::size_t(kPacketWidth);
         for (Floats* a : arrays) a->reserve(n);
     };
@@ -201,6 +201,10 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     std::array<std::vector<std::size_t>, kPrimitiveTypeCount> of_type;
     bvh::BuildInput input;
     input.kind_count = kPrimitiveTypeCount;
+    for (int t = 0; t < kPrimitiveTypeCount; ++t) of_type[std::size_t(t)].reserve(std::size_t(s.count[std::size_t(t)]));
+    const std::size_t bounded = object_count + scene.mesh_triangle_count() - std::size_t(s.count[std::size_t(PrimitiveType::plane)]);
+    input.boxes.reserve(bounded);
+    input.kind.reserve(bounded);
     for (std::size_t i = 0; i < object_count; ++i) {
         const PrimitiveType type = primitive_type(scene.objects[i].shape);
         of_type[std::size_t(type)].push_back(i);
@@ -209,6 +213,7 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
         input.kind.push_back(std::uint8_t(type));
     }
     std::vector<std::size_t> first_triangle;  // per mesh: its first triangle's primitive id
+    first_triangle.reserve(scene.meshes.size());
     std::size_t id = object_count;
     for (const Mesh& m : scene.meshes) {
         first_triangle.push_back(id);
@@ -261,9 +266,11 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     }
     // Spheres and triangles: a whole packet width past the last one too, as a
     // leaf's run loads 8 from its start (test_run; lanes past the run are off).
+    // A type with none has no leaf to load from: its arrays stay empty.
     SphereArrays& sp = s.spheres;
-    for (Floats* f : {&sp.cx, &sp.cy, &sp.cz, &sp.inv_radius, &sp.radius, &sp.cx_lo, &sp.cy_lo, &sp.cz_lo})
-        f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
+    if (!sp.cx.empty())
+        for (Floats* f : {&sp.cx, &sp.cy, &sp.cz, &sp.inv_radius, &sp.radius, &sp.cx_lo, &sp.cy_lo, &sp.cz_lo})
+            f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
     pad(sp.cx, sp.cy, sp.cz, sp.inv_radius, sp.radius, sp.cx_lo, sp.cy_lo, sp.cz_lo);
     // Float centres leave every residual zero: no arrays, and the normal reads none.
     auto is_zero = [](const Floats& f) { return std::all_of(f.begin(), f.end(), [](float x) { return x == 0.0f; }); };
@@ -275,8 +282,9 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     pad(r.cx, r.cy, r.cz, r.nx, r.ny, r.nz, r.dual_ax, r.dual_ay, r.dual_az, r.dual_bx, r.dual_by, r.dual_bz);
     pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
     auto& t = s.triangles;
-    for (Floats* f : {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz})
-        f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
+    if (!t.ax.empty())
+        for (Floats* f : {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz})
+            f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
     pad(t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz, t.nx, t.ny, t.nz);
     if (total == 0) {  // keep the miss lanes' id lookups in bounds for an object-free scene
         s.object_of.push_back(0.0f);
