@@ -136,32 +136,26 @@ Bvh8 build_bvh8(const BuildInput& in, const BuildOptions& opt) {
 #ifdef _OPENMP
     const int threads = resolve_threads(opt.threads);
 #endif
-    // The references, their bounds extended as they are written.
-    auto fill = [&ctx, boxes](std::size_t begin, std::size_t end, Bounds& bounds) {
-        for (std::size_t i = begin; i < end; ++i) {
-            Ref& r = ctx.refs[i];
-            std::memcpy(r.lo, boxes[i].lo, sizeof r.lo);
-            std::memcpy(r.hi, boxes[i].hi, sizeof r.hi);
-            r.id = std::uint32_t(i);
-            r.pad = 0;
-            bounds.extend(r);
-        }
+    // Reference i, written and added to `bounds`.
+    auto write_ref = [&ctx, boxes](std::size_t i, Bounds& bounds) {
+        Ref& r = ctx.refs[i];
+        std::memcpy(r.lo, boxes[i].lo, sizeof r.lo);
+        std::memcpy(r.hi, boxes[i].hi, sizeof r.hi);
+        r.id = std::uint32_t(i);
+        r.pad = 0;
+        bounds.extend(r);
     };
     if (n <= kTaskSize) {
         // Too small for a task: the team would cost more than it saves, and
         // one thread builds the same tree.
-        fill(0, n, root);
+        for (std::size_t i = 0; i < n; ++i) write_ref(i, root);
         build_node(ctx, 0, 0, std::uint32_t(n), root, 0);
     } else {
-#pragma omp parallel num_threads(threads) default(none) shared(ctx, root, fill, n)
+#pragma omp parallel num_threads(threads) default(none) shared(ctx, root, write_ref, n)
         {
             Bounds local;
-#ifdef _OPENMP
-            const std::size_t team = std::size_t(omp_get_num_threads()), me = std::size_t(omp_get_thread_num());
-#else
-            const std::size_t team = 1, me = 0;
-#endif
-            fill(n * me / team, n * (me + 1) / team, local);
+#pragma omp for schedule(static)
+            for (std::size_t i = 0; i < n; ++i) write_ref(i, local);
 #pragma omp critical(octray_bvh_root_bounds)
             root.extend(local);  // min/max: the same in any order
 #pragma omp barrier

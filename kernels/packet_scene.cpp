@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 #include <type_traits>
@@ -36,6 +37,18 @@ void pad(A&... arrays) {
         while (a.size() % 8 != 0) a.push_back(fill);
     };
     (one(arrays), ...);
+}
+
+// As pad, after a whole packet width of zeros past the last element, for the
+// types tested a leaf's run at a time (test_run loads 8 from the run's start;
+// lanes past the run are off). An empty array stays empty: no leaf loads it.
+template <class... A>
+void pad_for_runs(A&... arrays) {
+    auto one = [](Floats& a) {
+        if (!a.empty()) a.resize(a.size() + std::size_t(kPacketWidth), 0.0f);
+    };
+    (one(arrays), ...);
+    pad(arrays...);
 }
 
 // Room for each type's arrays: its primitives, then the padding compile()
@@ -202,7 +215,8 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     bvh::BuildInput input;
     input.kind_count = kPrimitiveTypeCount;
     for (int t = 0; t < kPrimitiveTypeCount; ++t) of_type[std::size_t(t)].reserve(std::size_t(s.count[std::size_t(t)]));
-    const std::size_t bounded = object_count + scene.mesh_triangle_count() - std::size_t(s.count[std::size_t(PrimitiveType::plane)]);
+    const std::size_t bounded = std::size_t(std::accumulate(s.count.begin(), s.count.end(), 0) -
+                                            s.count[std::size_t(PrimitiveType::plane)]);
     input.boxes.reserve(bounded);
     input.kind.reserve(bounded);
     for (std::size_t i = 0; i < object_count; ++i) {
@@ -264,14 +278,8 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
             push_triangle(s.triangles, reference::mesh_triangle(mesh, k));
         }
     }
-    // Spheres and triangles: a whole packet width past the last one too, as a
-    // leaf's run loads 8 from its start (test_run; lanes past the run are off).
-    // A type with none has no leaf to load from: its arrays stay empty.
     SphereArrays& sp = s.spheres;
-    if (!sp.cx.empty())
-        for (Floats* f : {&sp.cx, &sp.cy, &sp.cz, &sp.inv_radius, &sp.radius, &sp.cx_lo, &sp.cy_lo, &sp.cz_lo})
-            f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
-    pad(sp.cx, sp.cy, sp.cz, sp.inv_radius, sp.radius, sp.cx_lo, sp.cy_lo, sp.cz_lo);
+    pad_for_runs(sp.cx, sp.cy, sp.cz, sp.inv_radius, sp.radius, sp.cx_lo, sp.cy_lo, sp.cz_lo);
     // Float centres leave every residual zero: no arrays, and the normal reads none.
     auto is_zero = [](const Floats& f) { return std::all_of(f.begin(), f.end(), [](float x) { return x == 0.0f; }); };
     if (is_zero(sp.cx_lo) && is_zero(sp.cy_lo) && is_zero(sp.cz_lo))
@@ -282,10 +290,7 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     pad(r.cx, r.cy, r.cz, r.nx, r.ny, r.nz, r.dual_ax, r.dual_ay, r.dual_az, r.dual_bx, r.dual_by, r.dual_bz);
     pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
     auto& t = s.triangles;
-    if (!t.ax.empty())
-        for (Floats* f : {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz})
-            f->resize(f->size() + std::size_t(kPacketWidth), 0.0f);
-    pad(t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz, t.nx, t.ny, t.nz);
+    pad_for_runs(t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz, t.nx, t.ny, t.nz);
     if (total == 0) {  // keep the miss lanes' id lookups in bounds for an object-free scene
         s.object_of.push_back(0.0f);
         s.material_of.push_back(0.0f);
