@@ -13,6 +13,8 @@
 // arrays by Bvh8::order[kind] and a leaf names, per kind, one contiguous run.
 #pragma once
 
+#include "aligned.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -125,7 +127,7 @@ inline std::uint32_t leaf_run(const Leaf& l) {
 
 // The leaf a walk reaches by child reference `ref` (< 0) whose parent's run
 // word is `run`: decoded into `scratch` when inline, else read from leaves.
-inline const Leaf& leaf_of(const std::vector<Leaf>& leaves, std::int32_t ref, std::uint32_t run, Leaf& scratch) {
+inline const Leaf& leaf_of(const AlignedVector<Leaf>& leaves, std::int32_t ref, std::uint32_t run, Leaf& scratch) {
     if (run == 0) return leaves[std::size_t(~ref)];
     scratch = Leaf{};
     const unsigned kind = (run >> 24) & 7u;
@@ -136,11 +138,11 @@ inline const Leaf& leaf_of(const std::vector<Leaf>& leaves, std::int32_t ref, st
 
 // The tree. nodes[0] is the root whenever there is a primitive (even one: a
 // root with a single leaf child); no primitive: no node, no leaf.
-// std::vector of an over-aligned type allocates with its alignment (C++17
-// aligned new), so every Node8 starts a cache line.
+// Nodes and leaves in aligned arrays (aligned.hpp): every Node8 starts a
+// cache line, and a large tree sits in huge pages.
 struct Bvh8 {
-    std::vector<Node8> nodes;
-    std::vector<Leaf> leaves;
+    AlignedVector<Node8> nodes;
+    AlignedVector<Leaf> leaves;
     // order[k][position] = the caller's index (BuildInput::index_in_kind) of
     // the primitive of kind k now at `position`; one vector per kind used.
     // Only the caller's reordering reads it: the caller may release it

@@ -51,15 +51,20 @@ void build_node(const Context& ctx, std::uint32_t node, std::uint32_t begin, std
         BNode& bn = ctx.nodes[node];
         bn.box = bounds.box.box();
         const std::uint32_t n = end - begin;
-        const NodeSplit split = choose_split(ctx, begin, end, bounds, depth);
-        const float split_cost = split.cost();
         const float area = bounds.box.area();
         const bool leaf_ok = n <= std::uint32_t(ctx.max_leaf);
         // SAH, scaled by the node's area, in leaf blocks of b: leaf ceil(n / b) Ci A
         // vs split Ct A + Ci (sum A_side n_side) / b.
         const float block = float(ctx.leaf_block);
         const float leaf_cost = ctx.intersection_cost * std::ceil(float(n) / block) * area;
-        if (n == 1 || (leaf_ok && !(leaf_cost > ctx.traversal_cost * area + ctx.intersection_cost * split_cost / block))) {
+        // A split costs at least Ct A (its sum is >= 0, and rounding is
+        // monotone): a leaf costing no more wins without a search, the same
+        // decision the comparison below makes.
+        const bool leaf_wins = leaf_ok && !(leaf_cost > ctx.traversal_cost * area);
+        const NodeSplit split = n == 1 || leaf_wins ? NodeSplit{} : choose_split(ctx, begin, end, bounds, depth);
+        const float split_cost = split.cost();
+        if (n == 1 || leaf_wins ||
+            (leaf_ok && !(leaf_cost > ctx.traversal_cost * area + ctx.intersection_cost * split_cost / block))) {
             bn.first = begin;
             bn.count = n;
             return;
@@ -125,8 +130,8 @@ Bvh8 build_bvh8(const BuildInput& in, const BuildOptions& opt) {
 
     // Every array the parallel region touches, made here (default-initialized:
     // only the pages the build writes are ever touched).
-    std::unique_ptr<Ref[]> refs(new Ref[n]), scratch(new Ref[n]);
-    std::unique_ptr<BNode[]> bnodes(new BNode[2 * n - 1]);
+    const RawArray<Ref> refs(n), scratch(n);
+    const RawArray<BNode> bnodes(2 * n - 1);
     std::atomic<std::uint32_t> next{1};
     const Context ctx{refs.get(),        scratch.get(),         bnodes.get(),         &next,
                       opt.bins,          opt.max_leaf_size,     opt.traversal_cost,   opt.intersection_cost,

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -20,12 +21,16 @@ Vec3d normalized(const Vec3d& v) { return unit_direction(v); }  // the reference
 
 void push(Floats& a, double v) { a.push_back(float(v)); }
 void push3(Floats& x, Floats& y, Floats& z, const Vec3d& v) { push(x, v.x), push(y, v.y), push(z, v.z); }
+// Element k of arrays sized beforehand (size_arrays): no push_back's
+// capacity check and call per float.
+void put(Floats& a, std::size_t k, double v) { a[k] = float(v); }
+void put3(Floats& x, Floats& y, Floats& z, std::size_t k, const Vec3d& v) { put(x, k, v.x), put(y, k, v.y), put(z, k, v.z); }
 
-void push_triangle(TriangleArrays& a, const Triangle& t) {
-    push3(a.ax, a.ay, a.az, t.v0);
-    push3(a.bx, a.by, a.bz, t.v1);
-    push3(a.cx, a.cy, a.cz, t.v2);
-    push3(a.nx, a.ny, a.nz, normalized(cross(t.v1 - t.v0, t.v2 - t.v0)));
+void put_triangle(TriangleArrays& a, std::size_t k, const Triangle& t) {
+    put3(a.ax, a.ay, a.az, k, t.v0);
+    put3(a.bx, a.by, a.bz, k, t.v1);
+    put3(a.cx, a.cy, a.cz, k, t.v2);
+    put3(a.nx, a.ny, a.nz, k, normalized(cross(t.v1 - t.v0, t.v2 - t.v0)));
 }
 
 // Pads every array of `arrays` to a multiple of the packet width with copies
@@ -51,14 +56,15 @@ void pad_for_runs(A&... arrays) {
     pad(arrays...);
 }
 
-// Room for each type's arrays: its primitives, then the padding compile()
-// adds (a whole packet width past the last one, rounded up to a multiple of
-// it), so no array regrows (a grown vector holds up to twice its size).
-void reserve_arrays(SceneData& s) {
+// Each type's arrays sized for its primitives (written by index), with room
+// for the padding compile() adds (a whole packet width past the last one,
+// rounded up to a multiple of it), so no array regrows (a grown vector holds
+// up to twice its size).
+void size_arrays(SceneData& s) {
     auto room = [&](PrimitiveType type, std::initializer_list<Floats*> arrays) {
-        if (s.count[std::size_t(type)] == 0) return;  // stays empty
-        const std::size_t n = std::size_t(s.count[std::size_t(type)]) + 2 * std::size_t(kPacketWidth);
-        for (Floats* a : arrays) a->reserve(n);
+        const std::size_t count = std::size_t(s.count[std::size_t(type)]);
+        if (count == 0) return;  // stays empty
+        for (Floats* a : arrays) a->reserve(count + 2 * std::size_t(kPacketWidth)), a->resize(count);
     };
     auto& sp = s.spheres;
     room(PrimitiveType::sphere, {&sp.cx, &sp.cy, &sp.cz, &sp.inv_radius, &sp.radius, &sp.cx_lo, &sp.cy_lo, &sp.cz_lo});
@@ -75,14 +81,27 @@ void reserve_arrays(SceneData& s) {
     room(PrimitiveType::triangle, {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz});
 }
 
+// The float next to f towards -inf (down) or +inf (up), for f not NaN and
+// not already the end it moves to: std::nextafter without the library call
+// (every bounded primitive's box takes six of these).
+float float_below(float f) {
+    if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+    std::uint32_t b;
+    std::memcpy(&b, &f, sizeof b);
+    b = f > 0.0f ? b - 1u : b + 1u;  // magnitudes order like their bits
+    std::memcpy(&f, &b, sizeof f);
+    return f;
+}
+float float_above(float f) { return -float_below(-f); }
+
 // x rounded to a float no greater (down) or no smaller (up) than x.
 float round_down(double x) {
     const float f = float(x);
-    return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+    return double(f) > x ? float_below(f) : f;
 }
 float round_up(double x) {
     const float f = float(x);
-    return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+    return double(f) < x ? float_above(f) : f;
 }
 
 // An axis-aligned box around what the kernels test of a bounded primitive
@@ -122,41 +141,41 @@ bvh::Box box_of(const Shape& shape) {
             {round_up(hi.x + slack), round_up(hi.y + slack), round_up(hi.z + slack)}};
 }
 
-// Appends one primitive to its type's arrays.
-void append_primitive(SceneData& s, const Shape& shape) {
+// Writes one primitive as element k of its type's arrays.
+void put_primitive(SceneData& s, std::size_t k, const Shape& shape) {
     std::visit(
         [&](const auto& p) {
             using P = std::decay_t<decltype(p)>;
             if constexpr (std::is_same_v<P, Sphere>) {
                 auto& a = s.spheres;
-                push3(a.cx, a.cy, a.cz, p.center);
-                push3(a.cx_lo, a.cy_lo, a.cz_lo, p.center - round_to_float(p.center));
-                push(a.inv_radius, 1.0 / p.radius);
-                push(a.radius, p.radius);
+                put3(a.cx, a.cy, a.cz, k, p.center);
+                put3(a.cx_lo, a.cy_lo, a.cz_lo, k, p.center - round_to_float(p.center));
+                put(a.inv_radius, k, 1.0 / p.radius);
+                put(a.radius, k, p.radius);
             } else if constexpr (std::is_same_v<P, Plane>) {
                 auto& a = s.planes;
-                push3(a.px, a.py, a.pz, p.point);
-                push3(a.nx, a.ny, a.nz, normalized(p.normal));
+                put3(a.px, a.py, a.pz, k, p.point);
+                put3(a.nx, a.ny, a.nz, k, normalized(p.normal));
             } else if constexpr (std::is_same_v<P, Disk>) {
                 auto& a = s.disks;
-                push3(a.cx, a.cy, a.cz, p.center);
-                push3(a.nx, a.ny, a.nz, normalized(p.normal));
-                push(a.radius2, p.radius * p.radius);
+                put3(a.cx, a.cy, a.cz, k, p.center);
+                put3(a.nx, a.ny, a.nz, k, normalized(p.normal));
+                put(a.radius2, k, p.radius * p.radius);
             } else if constexpr (std::is_same_v<P, Rectangle>) {
                 // Dual basis of (a, b) in their plane: dual_a.a = 1, dual_a.b = 0, ...
                 auto& a = s.rectangles;
                 const Vec3d n = normalized(cross(p.a, p.b));
                 const Vec3d bn = cross(p.b, n), na = cross(n, p.a);
-                push3(a.cx, a.cy, a.cz, p.corner);
-                push3(a.nx, a.ny, a.nz, n);
-                push3(a.dual_ax, a.dual_ay, a.dual_az, bn * (1.0 / dot(p.a, bn)));
-                push3(a.dual_bx, a.dual_by, a.dual_bz, na * (1.0 / dot(p.b, na)));
+                put3(a.cx, a.cy, a.cz, k, p.corner);
+                put3(a.nx, a.ny, a.nz, k, n);
+                put3(a.dual_ax, a.dual_ay, a.dual_az, k, bn * (1.0 / dot(p.a, bn)));
+                put3(a.dual_bx, a.dual_by, a.dual_bz, k, na * (1.0 / dot(p.b, na)));
             } else if constexpr (std::is_same_v<P, Box>) {
                 auto& a = s.boxes;
-                push3(a.minx, a.miny, a.minz, p.min);
-                push3(a.maxx, a.maxy, a.maxz, p.max);
+                put3(a.minx, a.miny, a.minz, k, p.min);
+                put3(a.maxx, a.maxy, a.maxz, k, p.max);
             } else {
-                push_triangle(s.triangles, p);
+                put_triangle(s.triangles, k, p);
             }
         },
         shape);
@@ -243,7 +262,7 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     // The tree's permutations are read once, below: not kept.
     const std::vector<std::vector<std::uint32_t>> order = std::move(s.bvh.order);
     s.bvh.order.clear();
-    reserve_arrays(s);
+    size_arrays(s);
     const std::size_t total = id;
     for (Floats* f : {&s.object_of, &s.material_of, &s.mesh_of, &s.compiled_of}) f->reserve(total + std::size_t(kPacketWidth));
     s.object_of.resize(total);
@@ -266,7 +285,7 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
             s.compiled_of[i] = float(cid);
             if (i < object_count) {
                 s.material_of[cid] = float(scene.objects[i].material);
-                append_primitive(s, scene.objects[i].shape);
+                put_primitive(s, pos, scene.objects[i].shape);
                 continue;
             }
             const std::size_t m = std::size_t(std::upper_bound(first_triangle.begin(), first_triangle.end(), i) -
@@ -275,7 +294,7 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
             const std::size_t k = i - first_triangle[m];
             s.material_of[cid] = float(mesh.material);
             s.mesh_of[cid] = float(m);
-            push_triangle(s.triangles, reference::mesh_triangle(mesh, k));
+            put_triangle(s.triangles, pos, reference::mesh_triangle(mesh, k));
         }
     }
     SphereArrays& sp = s.spheres;

@@ -8,8 +8,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -215,8 +217,22 @@ Vec3d unit_direction(const Vec3d& v) {
         const double nan = std::numeric_limits<double>::quiet_NaN();
         return {nan, nan, nan};
     }
-    const int e = std::ilogb(m);
-    const Vec3d s{std::scalbn(v.x, -e), std::scalbn(v.y, -e), std::scalbn(v.z, -e)};
+    // 2^-e from m's exponent bits where both are normal (every mesh triangle's
+    // normal comes here: the library calls cost more than the rest); a
+    // product by a power of two rounds as scalbn does, so the bits agree.
+    std::uint64_t bits;
+    std::memcpy(&bits, &m, sizeof bits);
+    const int biased = int(bits >> 52);  // m > 0: no sign bit
+    Vec3d s;
+    if (biased >= 1 && biased <= 2045) {
+        const std::uint64_t inverse = std::uint64_t(2046 - biased) << 52;  // 2^-(biased - 1023)
+        double k;
+        std::memcpy(&k, &inverse, sizeof k);
+        s = {v.x * k, v.y * k, v.z * k};
+    } else {
+        const int e = std::ilogb(m);
+        s = {std::scalbn(v.x, -e), std::scalbn(v.y, -e), std::scalbn(v.z, -e)};
+    }
     const double len = std::sqrt(dot(s, s));
     return {s.x / len, s.y / len, s.z / len};
 }
