@@ -29,14 +29,14 @@ namespace octray {
 inline constexpr std::size_t kHugePage = std::size_t(2) << 20;
 inline constexpr std::size_t kHugeBytes = kHugePage;
 
-// `bytes` aligned to `align` (a power of two, a multiple of sizeof(void*));
-// free with free_aligned(p, bytes). Large arrays are mapped on their own
+// `bytes` aligned to `align` (a power of two, a multiple of sizeof(void*), at
+// most kHugePage); free with free_aligned(p, bytes). Large arrays are mapped on their own
 // (not from malloc's heap, whose pages it may return and fault in again),
 // start on a huge page and ask for huge pages: advice only, where the kernel
 // has none to give it maps small ones.
 inline void* allocate_aligned(std::size_t bytes, std::size_t align) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (bytes >= kHugeBytes && align <= kHugePage) {
+    if (bytes >= kHugeBytes) {  // align <= kHugePage (the callers' static_asserts)
         const std::size_t page = std::size_t(sysconf(_SC_PAGESIZE));
         const std::size_t size = (bytes + page - 1) / page * page, span = size + kHugePage;
         void* base = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
@@ -68,6 +68,7 @@ template <class T, std::size_t Align = 64>
 struct AlignedAllocator {
     using value_type = T;
     static constexpr std::size_t kAlign = Align < alignof(T) ? alignof(T) : Align;
+    static_assert(kAlign <= kHugePage, "free_aligned unmaps what allocate_aligned maps");
     template <class U>
     struct rebind { using other = AlignedAllocator<U, Align>; };
     AlignedAllocator() = default;
@@ -91,6 +92,7 @@ template <class T>
 class RawArray {
     static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>, "trivial");
     static constexpr std::size_t kAlign = alignof(T) < 64 ? 64 : alignof(T);
+    static_assert(kAlign <= kHugePage, "free_aligned unmaps what allocate_aligned maps");
     T* data_ = nullptr;
     std::size_t bytes_ = 0;
 
