@@ -60,11 +60,10 @@ void build_node(const Context& ctx, std::uint32_t node, std::uint32_t begin, std
         // A split costs at least Ct A (its sum is >= 0, and rounding is
         // monotone): a leaf costing no more wins without a search, the same
         // decision the comparison below makes.
-        const bool leaf_wins = leaf_ok && !(leaf_cost > ctx.traversal_cost * area);
-        const NodeSplit split = n == 1 || leaf_wins ? NodeSplit{} : choose_split(ctx, begin, end, bounds, depth);
-        const float split_cost = split.cost();
-        if (n == 1 || leaf_wins ||
-            (leaf_ok && !(leaf_cost > ctx.traversal_cost * area + ctx.intersection_cost * split_cost / block))) {
+        const bool leaf_now = n == 1 || (leaf_ok && !(leaf_cost > ctx.traversal_cost * area));
+        const NodeSplit split = leaf_now ? NodeSplit{} : choose_split(ctx, begin, end, bounds, depth);
+        if (leaf_now ||
+            (leaf_ok && !(leaf_cost > ctx.traversal_cost * area + ctx.intersection_cost * split.cost() / block))) {
             bn.first = begin;
             bn.count = n;
             return;
@@ -130,12 +129,11 @@ Bvh8 build_bvh8(const BuildInput& in, const BuildOptions& opt) {
 
     // Every array the parallel region touches, made here (default-initialized:
     // only the pages the build writes are ever touched).
-    const RawArray<Ref> refs(n), scratch(n);
+    const RawArray<Ref> refs(n);
     const RawArray<BNode> bnodes(2 * n - 1);
     std::atomic<std::uint32_t> next{1};
-    const Context ctx{refs.get(),        scratch.get(),         bnodes.get(),         &next,
-                      opt.bins,          opt.max_leaf_size,     opt.traversal_cost,   opt.intersection_cost,
-                      opt.leaf_block};
+    const Context ctx{refs.get(),          bnodes.get(),          &next,           opt.bins, opt.max_leaf_size,
+                      opt.traversal_cost, opt.intersection_cost, opt.leaf_block};
     Bounds root;
     const Box* boxes = in.boxes.data();
 #ifdef _OPENMP

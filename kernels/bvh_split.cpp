@@ -10,6 +10,7 @@
 #include "bvh_build_types.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 namespace octray::bvh::detail {
 
@@ -66,22 +67,31 @@ Split find_split(const Context& ctx, std::uint32_t begin, std::uint32_t end, con
 // references sorted by centroid on each axis (cheaper than filling and
 // sweeping bins for a few references, and better). Ties sort by input index,
 // so the order is total and the result deterministic; a NaN centroid sorts
-// first.
+// first. The sort is by rank (each reference's position is the number of
+// keys below its own): branch free, so its cost does not depend on the order
+// the partition above left the references in.
+namespace {
+// The centroid on one axis and the input index as one integer whose order is
+// (centroid, index): the float's bits made monotone (negatives reversed).
+inline std::uint64_t sweep_key(const Ref& r, int a) {
+    float c = r.lo[a] + r.hi[a];
+    if (c != c) c = -kInf;
+    std::uint32_t bits;
+    std::memcpy(&bits, &c, sizeof bits);
+    bits = (bits & 0x80000000u) != 0 ? ~bits : bits | 0x80000000u;
+    return std::uint64_t(bits) << 32 | r.id;
+}
+}  // namespace
+
 void sweep_split(const Ref* refs, std::uint32_t n, SweepSplit& best) {
     for (int a = 0; a < 3; ++a) {
-        float key[kSweepSize];
-        for (std::uint32_t i = 0; i < n; ++i) {
-            const float c = refs[i].lo[a] + refs[i].hi[a];
-            key[i] = c == c ? c : -kInf;
-        }
-        auto before = [&](std::uint32_t i, std::uint32_t j) {
-            return key[i] < key[j] || (key[i] == key[j] && refs[i].id < refs[j].id);
-        };
+        std::uint64_t key[kSweepSize];
+        for (std::uint32_t i = 0; i < n; ++i) key[i] = sweep_key(refs[i], a);
         std::uint8_t* order = best.order[a];
-        for (std::uint32_t i = 0; i < n; ++i) {  // insertion sort
-            std::uint32_t j = i;
-            for (; j > 0 && before(i, order[j - 1]); --j) order[j] = order[j - 1];
-            order[j] = std::uint8_t(i);
+        for (std::uint32_t i = 0; i < n; ++i) {  // keys are distinct (the index): the ranks are a permutation
+            std::uint32_t rank = 0;
+            for (std::uint32_t j = 0; j < n; ++j) rank += key[j] < key[i];
+            order[rank] = std::uint8_t(i);
         }
         float right_cost[kSweepSize];
         Box4 acc = Box4::empty();
@@ -126,7 +136,7 @@ std::uint32_t apply_split(const Context& ctx, std::uint32_t begin, std::uint32_t
         const Binner binner(bounds.cbox, ctx.bins);
         const __m128i split_bin = _mm_set1_epi32(s.split.bin);
         const int axis_bit = 1 << s.split.axis;
-        mid = partition(ctx.refs, ctx.scratch, begin, end, left, right, [&](const Ref& r) {
+        mid = partition(ctx.refs, begin, end, left, right, [&](const Ref& r) {
             const __m128i below = _mm_cmplt_epi32(binner.bin(r), split_bin);
             return (_mm_movemask_ps(_mm_castsi128_ps(below)) & axis_bit) != 0;
         });
