@@ -13,8 +13,10 @@
 #include "lane.hpp"
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 #ifndef OCTRAY_BVH_ISA
@@ -79,8 +81,37 @@ inline T grow(const T& t) {
     return t + lane::abs(t) * T(0x1p-20f);
 }
 
+// Eight float lanes in one AVX2 register: lane moves by permutes and integer
+// compares (a trip through memory costs a store-to-load forward each).
+template <class T>
+inline constexpr bool kFloat8Register =
+#if defined(__AVX2__)
+    lane::width<T> == 8 && std::is_same_v<lane::Scalar<T>, float> && sizeof(T) == 32;
+#else
+    false;
+#endif
+
+// Lane i of v in every lane.
+template <class T>
+inline T lane_broadcast(const T& v, int i) {
+#if defined(__AVX2__)
+    if constexpr (kFloat8Register<T>) return T(_mm256_permutevar8x32_ps(v, _mm256_set1_epi32(i)));
+#endif
+    if constexpr (lane::width<T> == 1) {
+        (void)i;
+        return v;
+    } else {
+        alignas(64) lane::Scalar<T> tmp[lane::width<T>];
+        v.store_aligned(tmp);
+        return T(tmp[i]);
+    }
+}
+
 template <class T>
 inline lane::Scalar<T> lane_value(const T& v, int i) {
+#if defined(__AVX2__)
+    if constexpr (kFloat8Register<T>) return _mm256_cvtss_f32(_mm256_permutevar8x32_ps(v, _mm256_set1_epi32(i)));
+#endif
     if constexpr (lane::width<T> == 1) {
         (void)i;
         return v;
@@ -94,6 +125,13 @@ inline lane::Scalar<T> lane_value(const T& v, int i) {
 // The mask of the lanes whose bits are set.
 template <class T>
 inline Mask<T> lanes_of(unsigned bits) {
+#if defined(__AVX2__)
+    if constexpr (kFloat8Register<T>) {
+        const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+        const __m256i on = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), bit), bit);
+        return Mask<T>(_mm256_castsi256_ps(on));
+    }
+#endif
     if constexpr (lane::width<T> == 1) {
         return (bits & 1u) != 0;
     } else {
@@ -120,10 +158,11 @@ using NodeBatch = xsimd::batch<float, xsimd::sse2>;
 #endif
 static_assert(kWidth % NodeBatch::size == 0, "a node's children fill whole batches");
 
-// One ray in float, with each axis' near and far bounds chosen by its sign.
+// One ray in float, broadcast once for every node it tests; each axis' near
+// and far bounds chosen by its sign, as byte offsets into a Node8.
 struct SingleRay {
-    float o[3], inv[3], tmin;
-    bool neg[3];
+    NodeBatch o[3], inv[3], tmin;
+    std::uint32_t near[3], far[3];
 };
 
 // The bits of a node's used child slots.
@@ -162,14 +201,26 @@ template <class Axis>
     return bits & used_children(node);
 }
 
-// The children a single ray enters before `limit` (its tbest).
+// The children a single ray enters before `limit` (its tbest): the node test
+// of test_children, its operands already broadcast and its bounds picked by
+// offset (no per-node broadcasts or sign tests).
 [[gnu::always_inline]] inline unsigned enter_children(const Node8& node, const SingleRay& r, float limit, float entry[kWidth]) {
     using N = NodeBatch;
-    return test_children(node, r.tmin, limit, entry, [&](int a, const float* lo, const float* hi, N& enter, N& leave) {
-        const N o(r.o[a]), inv(r.inv[a]);  // max(t, acc): a NaN t is dropped
-        enter = lane::max((N::load_aligned(r.neg[a] ? hi : lo) - o) * inv, enter);
-        leave = lane::min((N::load_aligned(r.neg[a] ? lo : hi) - o) * inv, leave);
-    });
+    constexpr int w = int(N::size);
+    const char* base = reinterpret_cast<const char*>(&node);
+    unsigned bits = 0;
+    for (int i = 0; i < kWidth; i += w) {
+        N enter = r.tmin, leave = N(limit);
+        for (int a = 2; a >= 0; --a) {  // max(t, acc): a NaN t is dropped
+            const N near = N::load_aligned(reinterpret_cast<const float*>(base + r.near[a]) + i);
+            const N far = N::load_aligned(reinterpret_cast<const float*>(base + r.far[a]) + i);
+            enter = lane::max((near - r.o[a]) * r.inv[a], enter);
+            leave = lane::min((far - r.o[a]) * r.inv[a], leave);
+        }
+        enter.store_aligned(entry + i);
+        bits |= lane::bits(enter <= grow(leave)) << i;
+    }
+    return bits & used_children(node);  // see test_children
 }
 
 // The entered children `bits` in visiting order, last first: by entry,
@@ -193,12 +244,20 @@ inline int order_children(unsigned bits, const float entry[kWidth], bool nearest
 
 template <class T>
 inline SingleRay single_ray(const RayView<T>& r, int i) {
+    using N = NodeBatch;
     SingleRay s;
-    s.o[0] = float(lane_value(r.ox, i)), s.o[1] = float(lane_value(r.oy, i)), s.o[2] = float(lane_value(r.oz, i));
-    s.inv[0] = float(lane_value(r.inv_dx, i)), s.inv[1] = float(lane_value(r.inv_dy, i));
-    s.inv[2] = float(lane_value(r.inv_dz, i));
-    s.tmin = float(lane_value(r.tmin, i));
-    for (int a = 0; a < 3; ++a) s.neg[a] = std::signbit(s.inv[a]);
+    const T* o[3] = {&r.ox, &r.oy, &r.oz};
+    const T* inv[3] = {&r.inv_dx, &r.inv_dy, &r.inv_dz};
+    constexpr std::uint32_t lo[3] = {offsetof(Node8, lo_x), offsetof(Node8, lo_y), offsetof(Node8, lo_z)};
+    constexpr std::uint32_t hi[3] = {offsetof(Node8, hi_x), offsetof(Node8, hi_y), offsetof(Node8, hi_z)};
+    for (int a = 0; a < 3; ++a) {
+        const float v = float(lane_value(*inv[a], i));
+        s.o[a] = N(float(lane_value(*o[a], i)));
+        s.inv[a] = N(v);
+        s.near[a] = std::signbit(v) ? hi[a] : lo[a];
+        s.far[a] = std::signbit(v) ? lo[a] : hi[a];
+    }
+    s.tmin = N(float(lane_value(r.tmin, i)));
     return s;
 }
 

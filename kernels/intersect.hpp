@@ -75,7 +75,7 @@ struct LaneRay {
     Ray<T, P> one;
 
     const Ray<T, P>& at(int i, bool need_shear) {
-        auto b = [i](const T& v) { return T(bvh::detail::lane_value(v, i)); };
+        auto b = [i](const T& v) { return bvh::detail::lane_broadcast(v, i); };
         auto b3 = [&](const Vec3<T>& v) { return Vec3<T>{b(v.x), b(v.y), b(v.z)}; };
         if (i != lane) {
             one.o = b3(packet.o), one.d = b3(packet.d);
@@ -161,7 +161,7 @@ inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& 
         constexpr PrimitiveType type = decltype(tag)::value;
         constexpr int W = lane::width<T>;
         const Ray<T, P>& one = lanes.at(i, type == PrimitiveType::triangle);
-        T tbest(bvh::detail::lane_value(best.t, i));
+        T tbest = bvh::detail::lane_broadcast(best.t, i);
         for (int j = 0; j < n; j += W) {
             Mask<T> hit, near;
             const T t = test_run<type>(s, k0 + j, one, hit, tbest, near);
