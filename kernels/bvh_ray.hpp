@@ -109,17 +109,7 @@ inline T lane_broadcast(const T& v, int i) {
 
 template <class T>
 inline lane::Scalar<T> lane_value(const T& v, int i) {
-#if defined(__AVX2__)
-    if constexpr (kFloat8Register<T>) return _mm256_cvtss_f32(_mm256_permutevar8x32_ps(v, _mm256_set1_epi32(i)));
-#endif
-    if constexpr (lane::width<T> == 1) {
-        (void)i;
-        return v;
-    } else {
-        alignas(64) lane::Scalar<T> tmp[lane::width<T>];
-        v.store_aligned(tmp);
-        return tmp[i];
-    }
+    return lane::lane0(lane_broadcast(v, i));
 }
 
 // The mask of the lanes whose bits are set.
