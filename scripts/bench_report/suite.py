@@ -92,7 +92,19 @@ def suite_main(a):
         return
 
     summary = build_summary(a, rows, rep, peak)
-    with open(os.path.join(a.out, "summary.json"), "w") as f:
+    summary_path = os.path.join(a.out, "summary.json")
+    if os.path.exists(summary_path):  # keep the cost curve's keys (--scale merges into the same file)
+        with open(summary_path) as f:
+            earlier = json.load(f)
+        for key, value in earlier.items():
+            if key.startswith("scale"):
+                summary[key] = value
+        for key in ("targets", "definitions"):
+            summary[key] = dict(summary[key])
+            for k, v in earlier.get(key, {}).items():
+                if k.startswith("scale"):
+                    summary[key][k] = v
+    with open(summary_path, "w") as f:
         json.dump(summary, f, indent=2)
         f.write("\n")
 
