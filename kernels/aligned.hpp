@@ -29,21 +29,30 @@ namespace octray {
 inline constexpr std::size_t kHugePage = std::size_t(2) << 20;
 inline constexpr std::size_t kHugeBytes = kHugePage;
 
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+// What allocate_aligned maps for an array of `bytes` (whole small pages), or
+// 0 where it takes the array from malloc: both ends ask this one question.
+inline std::size_t mapped_bytes(std::size_t bytes) {
+    if (bytes < kHugeBytes) return 0;
+    const std::size_t page = std::size_t(sysconf(_SC_PAGESIZE));
+    return (bytes + page - 1) / page * page;
+}
+#endif
+
 // `bytes` aligned to `align` (a power of two, a multiple of sizeof(void*), at
-// most kHugePage); free with free_aligned(p, bytes). Large arrays are mapped on their own
-// (not from malloc's heap, whose pages it may return and fault in again),
-// start on a huge page and ask for huge pages: advice only, where the kernel
-// has none to give it maps small ones.
+// most kHugePage); free with free_aligned(p, bytes). Large arrays are mapped
+// on their own (not from malloc's heap, whose pages it may return and fault
+// in again), start on a huge page and ask for huge pages: advice only, where
+// the kernel has none to give it maps small ones.
 inline void* allocate_aligned(std::size_t bytes, std::size_t align) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (bytes >= kHugeBytes) {  // align <= kHugePage (the callers' static_asserts)
-        const std::size_t page = std::size_t(sysconf(_SC_PAGESIZE));
-        const std::size_t size = (bytes + page - 1) / page * page, span = size + kHugePage;
+    if (const std::size_t size = mapped_bytes(bytes); size != 0) {  // align <= kHugePage (the callers' static_asserts)
+        const std::size_t span = size + kHugePage;
         void* base = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         if (base == MAP_FAILED) throw std::bad_alloc();
         const std::uintptr_t b = reinterpret_cast<std::uintptr_t>(base);
         const std::uintptr_t p = (b + kHugePage - 1) / kHugePage * kHugePage;
-        if (p > b) munmap(base, p - b);                        // the slack before
+        if (p > b) munmap(base, p - b);  // the slack before
         if (b + span > p + size) munmap(reinterpret_cast<void*>(p + size), b + span - (p + size));  // and after
         (void)madvise(reinterpret_cast<void*>(p), size, MADV_HUGEPAGE);
         return reinterpret_cast<void*>(p);
@@ -55,9 +64,8 @@ inline void* allocate_aligned(std::size_t bytes, std::size_t align) {
 }
 inline void free_aligned(void* p, std::size_t bytes) noexcept {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (bytes >= kHugeBytes && p != nullptr) {
-        const std::size_t page = std::size_t(sysconf(_SC_PAGESIZE));
-        munmap(p, (bytes + page - 1) / page * page);
+    if (const std::size_t size = mapped_bytes(bytes); size != 0) {
+        if (p != nullptr) munmap(p, size);
         return;
     }
 #endif

@@ -173,7 +173,8 @@ inline unsigned used_children(const Node8& node) {
 // Always inlined: every walk's inner loop (GCC otherwise keeps it out of
 // line once the walk around it grows).
 template <class Axis>
-[[gnu::always_inline]] inline unsigned test_children(const Node8& node, float tmin, float limit, float entry[kWidth], Axis&& axis) {
+[[gnu::always_inline]] inline unsigned test_children(const Node8& node, float tmin, float limit, float entry[kWidth],
+                                                     Axis&& axis) {
     using N = NodeBatch;
     constexpr int w = int(N::size);
     const float* lo[3] = {node.lo_x, node.lo_y, node.lo_z};
@@ -194,7 +195,8 @@ template <class Axis>
 // The children a single ray enters before `limit` (its tbest): the node test
 // of test_children, its operands already broadcast and its bounds picked by
 // offset (no per-node broadcasts or sign tests).
-[[gnu::always_inline]] inline unsigned enter_children(const Node8& node, const SingleRay& r, float limit, float entry[kWidth]) {
+[[gnu::always_inline]] inline unsigned enter_children(const Node8& node, const SingleRay& r, float limit,
+                                                      float entry[kWidth]) {
     using N = NodeBatch;
     constexpr int w = int(N::size);
     const char* base = reinterpret_cast<const char*>(&node);
