@@ -136,12 +136,25 @@ inline const Leaf& leaf_of(const AlignedVector<Leaf>& leaves, std::int32_t ref, 
     return scratch;
 }
 
+// Whether every leaf of the tree is inline in its parent's run word (so no
+// walk reads Bvh8::leaves, and a caller that needs no leaf records may
+// release them).
+inline bool every_leaf_inline(const AlignedVector<Node8>& nodes) {
+    for (const Node8& node : nodes)
+        for (int c = 0; c < kWidth; ++c)
+            if (node.child[c] < 0 && node.child[c] != kEmptySlot && node.run[c] == 0) return false;
+    return true;
+}
+
 // The tree. nodes[0] is the root whenever there is a primitive (even one: a
 // root with a single leaf child); no primitive: no node, no leaf.
 // Nodes and leaves in aligned arrays (aligned.hpp): every Node8 starts a
 // cache line, and a large tree sits in huge pages.
 struct Bvh8 {
     AlignedVector<Node8> nodes;
+    // Leaf number l's record. A caller may release it where
+    // every_leaf_inline(nodes) (compile() does, for a tree it walks): the walks
+    // then decode each leaf from its run word; sah_cost needs the records.
     AlignedVector<Leaf> leaves;
     // order[k][position] = the caller's index (BuildInput::index_in_kind) of
     // the primitive of kind k now at `position`; one vector per kind used.

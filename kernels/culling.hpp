@@ -42,9 +42,7 @@ inline bvh::RayView<T> ray_view(const Ray<T, P>& r) {
     return bvh::make_ray_view(r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tmin);
 }
 
-// A tree of at most this many primitives (one leaf block) is not walked:
-// every packet tests them all, closest and any hit alike.
-inline constexpr std::size_t kTestAll = 8;
+inline constexpr std::size_t kTestAll = kTestAllPrimitives;
 
 // Types whose tests take one ray against a leaf's run side by side in the
 // lanes (test_run): the leaf kinds that are most of a large scene.

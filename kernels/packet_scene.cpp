@@ -259,6 +259,9 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     s.bvh = bvh::build_bvh8(input, build_options(options));
     if (options.acceleration == CompileOptions::Acceleration::none) open_every_node(s.bvh);
 
+    // A walked tree whose leaves are all inline needs no leaf records.
+    if (s.bvh.primitive_count() > kTestAllPrimitives && bvh::every_leaf_inline(s.bvh.nodes))
+        AlignedVector<bvh::Leaf>().swap(s.bvh.leaves);
     // The tree's permutations are read once, below: not kept.
     const std::vector<std::vector<std::uint32_t>> order = std::move(s.bvh.order);
     s.bvh.order.clear();

@@ -66,12 +66,17 @@ struct PacketCamera {
     float shared_hi[3]{}, shared_lo[3]{};
 };
 
+// A tree of at most this many bounded primitives (one leaf block) is not
+// walked: every packet tests them all (by its leaves), closest and any hit alike.
+inline constexpr std::size_t kTestAllPrimitives = 8;
+
 struct SceneData {
     Features features;
     std::array<int, kPrimitiveTypeCount> count{};   // primitives per type
     std::array<int, kPrimitiveTypeCount> offset{};  // first compiled id per type
     // One 8-wide BVH over every bounded primitive (kind = PrimitiveType);
-    // planes stay outside it.
+    // planes stay outside it. Its leaves are released where every leaf is
+    // inline in its parent (bvh::every_leaf_inline) and the tree is walked.
     bvh::Bvh8 bvh;
     SphereArrays spheres;
     PlaneArrays planes;
