@@ -76,6 +76,7 @@ namespace {
 inline std::uint64_t sweep_key(const Ref& r, int a) {
     float c = r.lo[a] + r.hi[a];
     if (c != c) c = -kInf;
+    if (c == 0.0f) c = 0.0f;  // -0 and +0 tie (and sort by index), as float comparison has them
     std::uint32_t bits;
     std::memcpy(&bits, &c, sizeof bits);
     bits = (bits & 0x80000000u) != 0 ? ~bits : bits | 0x80000000u;
