@@ -166,23 +166,31 @@ inline unsigned used_children(const Node8& node) {
 #endif
 }
 
+// Byte offsets into a Node8 of each axis' lower and upper child bounds.
+inline constexpr std::uint32_t kLowerBounds[3] = {offsetof(Node8, lo_x), offsetof(Node8, lo_y), offsetof(Node8, lo_z)};
+inline constexpr std::uint32_t kUpperBounds[3] = {offsetof(Node8, hi_x), offsetof(Node8, hi_y), offsetof(Node8, hi_z)};
+
+// Children i .. i + NodeBatch::size - 1 of the bound array at byte `offset`
+// (kLowerBounds, kUpperBounds) of `node`.
+inline NodeBatch child_bounds(const Node8& node, std::uint32_t offset, int i) {
+    return NodeBatch::load_aligned(reinterpret_cast<const float*>(reinterpret_cast<const char*>(&node) + offset) + i);
+}
+
 // The bits of the used children whose slab interval, clipped to [tmin,
 // limit], is non-empty (with the slack), and their entry t in `entry`:
-// axis(a, lo, hi, enter, leave) narrows a batch of children's interval by
-// axis a (lo, hi: the batch's bounds on that axis).
+// axis(a, i, enter, leave) narrows the interval of children i .. i +
+// NodeBatch::size - 1 by axis a (child_bounds reads their bounds).
 // Always inlined: every walk's inner loop (GCC otherwise keeps it out of
 // line once the walk around it grows).
 template <class Axis>
-[[gnu::always_inline]] inline unsigned test_children(const Node8& node, float tmin, float limit, float entry[kWidth],
-                                                     Axis&& axis) {
+[[gnu::always_inline]] inline unsigned test_children(const NodeBatch& tmin, float limit, float entry[kWidth],
+                                                     const Node8& node, Axis&& axis) {
     using N = NodeBatch;
     constexpr int w = int(N::size);
-    const float* lo[3] = {node.lo_x, node.lo_y, node.lo_z};
-    const float* hi[3] = {node.hi_x, node.hi_y, node.hi_z};
     unsigned bits = 0;
     for (int i = 0; i < kWidth; i += w) {
-        N enter = N(tmin), leave = N(limit);
-        for (int a = 2; a >= 0; --a) axis(a, lo[a] + i, hi[a] + i, enter, leave);
+        N enter = tmin, leave = N(limit);
+        for (int a = 2; a >= 0; --a) axis(a, i, enter, leave);
         enter.store_aligned(entry + i);
         bits |= lane::bits(enter <= grow(leave)) << i;
     }
@@ -192,27 +200,17 @@ template <class Axis>
     return bits & used_children(node);
 }
 
-// The children a single ray enters before `limit` (its tbest): the node test
-// of test_children, its operands already broadcast and its bounds picked by
-// offset (no per-node broadcasts or sign tests).
+// The children a single ray enters before `limit` (its tbest); its operands
+// are broadcast once a walk and its near bounds picked by offset (no
+// per-node broadcasts or sign tests).
 [[gnu::always_inline]] inline unsigned enter_children(const Node8& node, const SingleRay& r, float limit,
                                                       float entry[kWidth]) {
     using N = NodeBatch;
-    constexpr int w = int(N::size);
-    const char* base = reinterpret_cast<const char*>(&node);
-    unsigned bits = 0;
-    for (int i = 0; i < kWidth; i += w) {
-        N enter = r.tmin, leave = N(limit);
-        for (int a = 2; a >= 0; --a) {  // max(t, acc): a NaN t is dropped
-            const N near = N::load_aligned(reinterpret_cast<const float*>(base + r.near[a]) + i);
-            const N far = N::load_aligned(reinterpret_cast<const float*>(base + r.far[a]) + i);
-            enter = lane::max((near - r.o[a]) * r.inv[a], enter);
-            leave = lane::min((far - r.o[a]) * r.inv[a], leave);
-        }
-        enter.store_aligned(entry + i);
-        bits |= lane::bits(enter <= grow(leave)) << i;
-    }
-    return bits & used_children(node);  // see test_children
+    return test_children(r.tmin, limit, entry, node, [&](int a, int i, N& enter, N& leave) {
+        // max(t, acc): a NaN t is dropped
+        enter = lane::max((child_bounds(node, r.near[a], i) - r.o[a]) * r.inv[a], enter);
+        leave = lane::min((child_bounds(node, r.far[a], i) - r.o[a]) * r.inv[a], leave);
+    });
 }
 
 // The entered children `bits` in visiting order, last first: by entry,
@@ -240,14 +238,12 @@ inline SingleRay single_ray(const RayView<T>& r, int i) {
     SingleRay s;
     const T* o[3] = {&r.ox, &r.oy, &r.oz};
     const T* inv[3] = {&r.inv_dx, &r.inv_dy, &r.inv_dz};
-    constexpr std::uint32_t lo[3] = {offsetof(Node8, lo_x), offsetof(Node8, lo_y), offsetof(Node8, lo_z)};
-    constexpr std::uint32_t hi[3] = {offsetof(Node8, hi_x), offsetof(Node8, hi_y), offsetof(Node8, hi_z)};
     for (int a = 0; a < 3; ++a) {
         const float v = float(lane_value(*inv[a], i));
         s.o[a] = N(float(lane_value(*o[a], i)));
         s.inv[a] = N(v);
-        s.near[a] = std::signbit(v) ? hi[a] : lo[a];
-        s.far[a] = std::signbit(v) ? lo[a] : hi[a];
+        s.near[a] = std::signbit(v) ? kUpperBounds[a] : kLowerBounds[a];
+        s.far[a] = std::signbit(v) ? kLowerBounds[a] : kUpperBounds[a];
     }
     s.tmin = N(float(lane_value(r.tmin, i)));
     return s;

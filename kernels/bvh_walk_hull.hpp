@@ -78,8 +78,8 @@ template <class N>
 // active lanes), with the hull's entry bounds in `entry`.
 inline unsigned hull_children(const Node8& node, const Hull& h, float limit, float entry[kWidth]) {
     using N = NodeBatch;
-    return test_children(node, h.tmin, limit, entry, [&](int a, const float* lo, const float* hi, N& enter, N& leave) {
-        hull_axis(h, a, N::load_aligned(lo), N::load_aligned(hi), enter, leave);
+    return test_children(N(h.tmin), limit, entry, node, [&](int a, int i, N& enter, N& leave) {
+        hull_axis(h, a, child_bounds(node, kLowerBounds[a], i), child_bounds(node, kUpperBounds[a], i), enter, leave);
     });
 }
 

@@ -42,7 +42,6 @@ inline bvh::RayView<T> ray_view(const Ray<T, P>& r) {
     return bvh::make_ray_view(r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tmin);
 }
 
-inline constexpr std::size_t kTestAll = kTestAllPrimitives;
 
 // Types whose tests take one ray against a leaf's run side by side in the
 // lanes (test_run): the leaf kinds that are most of a large scene.
@@ -160,7 +159,7 @@ OCTRAY_HOT void for_each_candidate(const SceneData& s, const Ray<T, P>& r, const
             });
         };
         auto walk = [&](auto&& leaf) OCTRAY_HOT_LAMBDA {
-            if (s.bvh.primitive_count() <= kTestAll) {
+            if (s.bvh.primitive_count() <= kTestAllPrimitives) {
                 // A leaf's worth of primitives (aobench's three spheres, a
                 // small scene): every leaf, no walk. Testing them all costs
                 // about the root's node test, and needs no ray view (three
