@@ -45,9 +45,12 @@ void store_hit(const SceneData& s, const Ray<T, P>& r, const Closest<T>& best, V
     n = face_forward(s, n, r, best);
     store(hp.t, 0, lane::select(hit, t, inf<T>()));
     const Lookup<T> at(k, hit);
-    store_index(hp.primitive, 0, lane::select(hit, at(s.object_of), T(-1)));
-    store_index(hp.material, 0, lane::select(hit, at(s.material_of), T(-1)));
-    store_index(hp.mesh, 0, T(-1));  // no meshes in these subsets
+    const T primitive = lane::select(hit, at(s.object_of), T(-1));
+    store_index(hp.primitive, 0, primitive);
+    T material, mesh;
+    owners_of<T, 0u>(s.owners, primitive, hit, material, mesh);  // no meshes in these subsets
+    store_index(hp.material, 0, material);
+    store_index(hp.mesh, 0, mesh);
     store(hp.nx, 0, lane::select(hit, n.x, T(0)));
     store(hp.ny, 0, lane::select(hit, n.y, T(0)));
     store(hp.nz, 0, lane::select(hit, n.z, T(0)));

@@ -292,11 +292,13 @@ std::size_t octray_bytes(const PacketScene& scene) {
     const SceneData& d = scene.data();
     std::size_t b = d.bvh.bytes();
     const auto& s = d.spheres;
-    for (const Floats* f : {&s.cx, &s.cy, &s.cz, &s.inv_radius, &s.radius, &s.cx_lo, &s.cy_lo, &s.cz_lo}) b += held(*f);
+    for (const Floats* f : {&s.cx, &s.cy, &s.cz, &s.radius, &s.cx_lo, &s.cy_lo, &s.cz_lo}) b += held(*f);
     const auto& t = d.triangles;
     for (const Floats* f : {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz})
         b += held(*f);
-    for (const Floats* f : {&d.object_of, &d.mesh_of, &d.compiled_of, &d.material_of}) b += held(*f);
+    const PrimitiveOwners& o = d.owners;
+    for (const Floats* f : {&d.object_of, &d.compiled_of, &o.object_material, &o.mesh_first, &o.mesh_material})
+        b += held(*f);
     return b;
 }
 

@@ -201,7 +201,7 @@ inline Vec3<T> compiled_sphere_normal(const SceneData& s, const Lookup<T>& at, c
                                       const RayResidual<T>& res, const Mask<T>& near) {
     const SphereArrays& a = s.spheres;
     const Vec3<T> f_lo = a.cx_lo.empty() ? res.o : res.o - at(a.cx_lo, a.cy_lo, a.cz_lo);
-    return sphere_normal(r, at(a.cx, a.cy, a.cz), at(a.radius), at(a.inv_radius), near, SphereResidual<T>{f_lo, res.d});
+    return sphere_normal(r, at(a.cx, a.cy, a.cz), at(a.radius), near, SphereResidual<T>{f_lo, res.d});
 }
 
 // Unit geometric normal of a primitive of type `Type` at the closest hit
@@ -287,6 +287,36 @@ inline Vec3<T> face_forward(const SceneData& s, const Vec3<T>& n, const Ray<T, P
             lane::select(away, T(0) - n.z, n.z)};
 }
 
+// The material and mesh of each hit lane's primitive (PrimitiveOwners), -1
+// elsewhere. Mesh triangles only where F has triangles.
+template <class T, unsigned F>
+inline void owners_of(const PrimitiveOwners& o, const T& primitive, const Mask<T>& hit, T& material, T& mesh) {
+    const Mask<T> object = hit && primitive < T(float(o.object_count));
+    material = o.object_material.empty()
+                   ? lane::select(object, T(o.common_material), T(-1))
+                   : lane::select(object, Lookup<T>(lane::keep(object, primitive), object)(o.object_material), T(-1));
+    mesh = T(-1);
+    if constexpr ((F & kTriangle) != 0) {
+        const Mask<T> in_mesh = hit && lane::not_(object);
+        if (!lane::any(in_mesh)) return;
+        // The last mesh whose first id is at or below the primitive's: a
+        // count of comparisons for a few meshes, a search per lane for many.
+        const std::size_t count = o.mesh_first.size();
+        T m(0);
+        if (count <= 16) {
+            for (std::size_t j = 1; j < count; ++j) m = m + lane::keep(primitive >= T(o.mesh_first[j]), T(1));
+        } else {
+            std::int32_t id[lane::width<T>];
+            store_index(id, 0, primitive);
+            for (int i = 0; i < lane::width<T>; ++i) id[i] = id[i] < o.object_count ? 0 : o.mesh(id[i]);
+            m = load_index<T>(id, 0);
+        }
+        m = lane::keep(in_mesh, m);
+        material = lane::select(in_mesh, Lookup<T>(m, in_mesh)(o.mesh_material), material);
+        mesh = lane::select(in_mesh, m, T(-1));
+    }
+}
+
 template <class T, Precision P, unsigned F>
 inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8& hp, int lane) {
     int masked = 0;
@@ -298,15 +328,17 @@ inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8&
     const Lookup<T> at(cid, hit);
     const Vec3<T> n = face_forward(s, hit_normal<T, P, F>(s, at, r, load_residual<T>(rp, lane), best, p, hit), r, best);
     store(hp.t, lane, lane::select(hit, best.t, inf<T>()));
-    store_index(hp.primitive, lane, lane::select(hit, at(s.object_of), T(-1)));
-    store_index(hp.material, lane, lane::select(hit, at(s.material_of), T(-1)));
+    const T primitive = lane::select(hit, at(s.object_of), T(-1));
+    store_index(hp.primitive, lane, primitive);
+    T material, mesh;
+    owners_of<T, F>(s.owners, primitive, hit, material, mesh);
+    store_index(hp.material, lane, material);
+    store_index(hp.mesh, lane, mesh);
     store(hp.nx, lane, lane::keep(hit, n.x));
     store(hp.ny, lane, lane::keep(hit, n.y));
     store(hp.nz, lane, lane::keep(hit, n.z));
     store_mask<T>(hp.hit, lane, hit);
     store_mask<T>(hp.invalid, lane, r.invalid);
-    if constexpr ((F & kTriangle) != 0) store_index(hp.mesh, lane, lane::select(hit, at(s.mesh_of), T(-1)));
-    else store_index(hp.mesh, lane, T(-1));
     return masked;
 }
 

@@ -67,7 +67,7 @@ void size_arrays(SceneData& s) {
         for (Floats* a : arrays) a->reserve(count + 2 * std::size_t(kPacketWidth)), a->resize(count);
     };
     auto& sp = s.spheres;
-    room(PrimitiveType::sphere, {&sp.cx, &sp.cy, &sp.cz, &sp.inv_radius, &sp.radius, &sp.cx_lo, &sp.cy_lo, &sp.cz_lo});
+    room(PrimitiveType::sphere, {&sp.cx, &sp.cy, &sp.cz, &sp.radius, &sp.cx_lo, &sp.cy_lo, &sp.cz_lo});
     auto& p = s.planes;
     room(PrimitiveType::plane, {&p.px, &p.py, &p.pz, &p.nx, &p.ny, &p.nz});
     auto& d = s.disks;
@@ -141,6 +141,25 @@ bvh::Box box_of(const Shape& shape) {
             {round_up(hi.x + slack), round_up(hi.y + slack), round_up(hi.z + slack)}};
 }
 
+// Materials and meshes by primitive id (PrimitiveOwners).
+void owners_of(const Scene& scene, const std::vector<std::size_t>& first_triangle, PrimitiveOwners& o) {
+    o.object_count = int(scene.objects.size());
+    const bool common = std::all_of(scene.objects.begin(), scene.objects.end(),
+                                    [&](const Object& x) { return x.material == scene.objects.front().material; });
+    if (common) {
+        o.common_material = scene.objects.empty() ? 0.0f : float(scene.objects.front().material);
+    } else {
+        o.object_material.reserve(scene.objects.size() + std::size_t(kPacketWidth));
+        for (const Object& x : scene.objects) o.object_material.push_back(float(x.material));
+        pad(o.object_material);
+    }
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+        o.mesh_first.push_back(float(first_triangle[m]));
+        o.mesh_material.push_back(float(scene.meshes[m].material));
+    }
+    pad(o.mesh_material);
+}
+
 // Writes one primitive as element k of its type's arrays.
 void put_primitive(SceneData& s, std::size_t k, const Shape& shape) {
     std::visit(
@@ -150,7 +169,6 @@ void put_primitive(SceneData& s, std::size_t k, const Shape& shape) {
                 auto& a = s.spheres;
                 put3(a.cx, a.cy, a.cz, k, p.center);
                 put3(a.cx_lo, a.cy_lo, a.cz_lo, k, p.center - round_to_float(p.center));
-                put(a.inv_radius, k, 1.0 / p.radius);
                 put(a.radius, k, p.radius);
             } else if constexpr (std::is_same_v<P, Plane>) {
                 auto& a = s.planes;
@@ -267,11 +285,10 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     s.bvh.order.clear();
     size_arrays(s);
     const std::size_t total = id;
-    for (Floats* f : {&s.object_of, &s.material_of, &s.mesh_of, &s.compiled_of}) f->reserve(total + std::size_t(kPacketWidth));
+    for (Floats* f : {&s.object_of, &s.compiled_of}) f->reserve(total + std::size_t(kPacketWidth));
     s.object_of.resize(total);
-    s.material_of.resize(total);
-    s.mesh_of.assign(total, -1.0f);
     s.compiled_of.resize(total);
+    owners_of(scene, first_triangle, s.owners);
     for (int type = 0; type < kPrimitiveTypeCount; ++type) {
         const std::vector<std::size_t>& ids = of_type[std::size_t(type)];
         const bool planes = type == int(PrimitiveType::plane);
@@ -287,21 +304,16 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
             s.object_of[cid] = float(i);
             s.compiled_of[i] = float(cid);
             if (i < object_count) {
-                s.material_of[cid] = float(scene.objects[i].material);
                 put_primitive(s, pos, scene.objects[i].shape);
                 continue;
             }
             const std::size_t m = std::size_t(std::upper_bound(first_triangle.begin(), first_triangle.end(), i) -
                                               first_triangle.begin()) - 1;
-            const Mesh& mesh = scene.meshes[m];
-            const std::size_t k = i - first_triangle[m];
-            s.material_of[cid] = float(mesh.material);
-            s.mesh_of[cid] = float(m);
-            put_triangle(s.triangles, pos, reference::mesh_triangle(mesh, k));
+            put_triangle(s.triangles, pos, reference::mesh_triangle(scene.meshes[m], i - first_triangle[m]));
         }
     }
     SphereArrays& sp = s.spheres;
-    pad_for_runs(sp.cx, sp.cy, sp.cz, sp.inv_radius, sp.radius, sp.cx_lo, sp.cy_lo, sp.cz_lo);
+    pad_for_runs(sp.cx, sp.cy, sp.cz, sp.radius, sp.cx_lo, sp.cy_lo, sp.cz_lo);
     // Float centres leave every residual zero: no arrays, and the normal reads none.
     auto is_zero = [](const Floats& f) { return std::all_of(f.begin(), f.end(), [](float x) { return x == 0.0f; }); };
     if (is_zero(sp.cx_lo) && is_zero(sp.cy_lo) && is_zero(sp.cz_lo))
@@ -315,11 +327,9 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     pad_for_runs(t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz, t.nx, t.ny, t.nz);
     if (total == 0) {  // keep the miss lanes' id lookups in bounds for an object-free scene
         s.object_of.push_back(0.0f);
-        s.material_of.push_back(0.0f);
-        s.mesh_of.push_back(-1.0f);
         s.compiled_of.push_back(0.0f);
     }
-    pad(s.object_of, s.material_of, s.mesh_of, s.compiled_of);
+    pad(s.object_of, s.compiled_of);
 
     for (const DirectionalLight& l : scene.directional_lights) {
         auto& a = s.directional;

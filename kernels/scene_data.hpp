@@ -17,6 +17,7 @@
 
 #include <octray/packet_scene.hpp>
 
+#include <algorithm>
 #include <array>
 
 namespace octray {
@@ -24,7 +25,7 @@ namespace octray {
 // radius: as authored, rounded once (1e6 stays exact; its square would not).
 // cx_lo, cy_lo, cz_lo: the centre's rounding residuals (the authored centre
 // is c + c_lo to ~u^2 |c|), for the normal; empty when every centre is a float.
-struct SphereArrays { Floats cx, cy, cz, inv_radius, radius, cx_lo, cy_lo, cz_lo; };
+struct SphereArrays { Floats cx, cy, cz, radius, cx_lo, cy_lo, cz_lo; };
 struct PlaneArrays { Floats px, py, pz, nx, ny, nz; };
 struct DiskArrays { Floats cx, cy, cz, nx, ny, nz, radius2; };
 // p = corner + s a + t b; s = (p - corner).dual_a, t = (p - corner).dual_b.
@@ -38,6 +39,30 @@ struct BoxArrays { Floats minx, miny, minz, maxx, maxy, maxz; };
 struct TriangleArrays {
     Floats ax, ay, az, bx, by, bz, cx, cy, cz;  // vertices v0, v1, v2
     Floats nx, ny, nz;
+};
+
+// A hit's material and mesh, from its primitive id (objects first, then
+// each mesh's triangles: scene.hpp) rather than from per-primitive arrays:
+// per object its material, none when every object has the same one; per
+// mesh its first primitive id and its material. Read once per hit lane.
+struct PrimitiveOwners {
+    int object_count = 0;
+    Floats object_material;  // per object; empty: every object's is common_material
+    float common_material = 0;
+    Floats mesh_first;     // per mesh, ascending (an empty mesh: the next one's)
+    Floats mesh_material;  // per mesh
+
+    // Scalar forms (the kernels have lane forms); -1 for primitive -1.
+    int mesh(int primitive) const {
+        if (primitive < object_count) return -1;
+        return int(std::upper_bound(mesh_first.begin(), mesh_first.end(), float(primitive)) - mesh_first.begin()) - 1;
+    }
+    int material(int primitive) const {
+        if (primitive < 0) return -1;
+        if (primitive < object_count)
+            return int(object_material.empty() ? common_material : object_material[std::size_t(primitive)]);
+        return int(mesh_material[std::size_t(mesh(primitive))]);
+    }
 };
 
 // ls * color premultiplied per light; shadows as 0/1 floats.
@@ -85,9 +110,8 @@ struct SceneData {
     BoxArrays boxes;
     TriangleArrays triangles;
     Floats object_of;    // compiled id -> primitive id (scene.hpp; exact in float below 2^24)
-    Floats mesh_of;      // compiled id -> Scene::meshes index, -1 for an object
     Floats compiled_of;  // primitive id -> compiled id (shading finds a sphere hit's centre)
-    Floats material_of;  // compiled id -> Scene::materials index
+    PrimitiveOwners owners;  // primitive id -> material, mesh
 
     int directional_count = 0, point_count = 0, point_attenuated_count = 0;
     DirectionalArrays directional;

@@ -246,8 +246,9 @@ OCTRAY_COLD Vec3<T> sphere_offset_scaled(const Ray<T, P>& r, const Vec3<T>& cent
 // Every operation is IEEE (sqrt; 1/(d.d) and 1/r are IEEE in every mode), so
 // the normal is the same in every precision mode.
 template <class T, Precision P>
-inline Vec3<T> sphere_normal(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, const T& inv_radius,
-                             const Mask<T>& near, const SphereResidual<T>& res) {
+inline Vec3<T> sphere_normal(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, const Mask<T>& near,
+                             const SphereResidual<T>& res) {
+    const T inv_radius = T(1) / radius;
     const Vec3<T> f = r.o - center;
     const Mask<T> huge = lane::not_(lane::max(fdot(f, f), radius * radius) <= T(0x1p100f));
     if (lane::any(huge)) return sphere_offset_scaled(r, center, radius, near, huge, res) * inv_radius;
@@ -255,10 +256,9 @@ inline Vec3<T> sphere_normal(const Ray<T, P>& r, const Vec3<T>& center, const T&
 }
 // The same for a ray and centre taken as exact.
 template <class T, Precision P>
-inline Vec3<T> sphere_normal(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, const T& inv_radius,
-                             const Mask<T>& near) {
+inline Vec3<T> sphere_normal(const Ray<T, P>& r, const Vec3<T>& center, const T& radius, const Mask<T>& near) {
     const Vec3<T> zero{T(0), T(0), T(0)};
-    return sphere_normal(r, center, radius, inv_radius, near, SphereResidual<T>{zero, zero});
+    return sphere_normal(r, center, radius, near, SphereResidual<T>{zero, zero});
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA

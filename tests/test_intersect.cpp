@@ -10,6 +10,7 @@
 #include <octray/kernels.hpp>
 #include <octray/reference.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -201,4 +202,75 @@ TEST_CASE("HitPacket::invalid flags exactly the lanes that were masked off") {
             if (hp.hit[i]) CHECK(hp.t[i] == doctest::Approx(4.0).epsilon(1e-6));
         }
     }
+}
+
+// A hit's material and mesh come from its primitive id (PrimitiveOwners), not
+// from per-primitive arrays: objects of many materials or of one, and few or
+// many meshes (the kernel counts for a few, searches for many) of different
+// sizes. Rays straight down onto a grid of spheres and mesh quads, and
+// between them, against the reference's primitive and material.
+TEST_CASE("hits report the material and mesh of their primitive, for any number of meshes") {
+    for (const int mesh_count : {0, 1, 3, 17, 40})
+        for (const bool common_material : {false, true}) {
+            CAPTURE(mesh_count);
+            CAPTURE(common_material);
+            Scene scene;
+            for (int m = 0; m < 5; ++m) scene.materials.push_back(Material{"m" + std::to_string(m), 0.2, 0.7, {1, 1, 1}});
+            std::vector<Vec3d> targets;  // above each primitive's middle, then between them
+            const int spheres = 11;
+            for (int i = 0; i < spheres; ++i) {
+                scene.objects.push_back(Object{Sphere{{3.0 * i, 0, 0}, 1}, common_material ? 2 : (i * 3) % 5});
+                targets.push_back({3.0 * i, 0, 5});
+            }
+            std::vector<int> mesh_of_primitive(std::size_t(spheres), -1);
+            for (int m = 0; m < mesh_count; ++m) {
+                Mesh mesh;
+                mesh.material = (m * 2 + 1) % 5;
+                // A quad at y = 5; every fifth mesh (from the second) a second one at y = 9.
+                for (const double y : {5.0, 9.0}) {
+                    if (y == 9.0 && m % 5 != 1) break;
+                    const double x = 3.0 * m;
+                    const auto v = std::uint32_t(mesh.vertices.size());
+                    mesh.vertices.insert(mesh.vertices.end(),
+                                         {{x - 1, y - 1, 0}, {x + 1, y - 1, 0}, {x + 1, y + 1, 0}, {x - 1, y + 1, 0}});
+                    mesh.indices.insert(mesh.indices.end(), {v, v + 1, v + 2, v, v + 2, v + 3});
+                    targets.push_back({x + 0.4, y - 0.3, 5});  // the first triangle
+                    targets.push_back({x - 0.4, y + 0.3, 5});  // the second
+                    mesh_of_primitive.insert(mesh_of_primitive.end(), 2, m);
+                }
+                scene.meshes.push_back(std::move(mesh));
+            }
+            for (std::size_t k = 0, n = targets.size(); k < n; k += 3) targets.push_back(targets[k] + Vec3d{1.5, 2.5, 0});
+            const PacketScene ps = compile(scene);
+            for (Isa isa : simd_isas())
+                for (Path path : {Path::scalar, Path::simd}) {
+                    const Kernel kernel = select_kernel(ps, path, Precision::exact, isa);
+                    int hits = 0;
+                    for (std::size_t first = 0; first < targets.size(); first += kPacketWidth) {
+                        RayPacket8 rp;
+                        HitPacket8 hp;
+                        for (int i = 0; i < kPacketWidth; ++i) {
+                            const Vec3d o = targets[std::min(first + std::size_t(i), targets.size() - 1)];
+                            rp.ox[i] = f(o.x), rp.oy[i] = f(o.y), rp.oz[i] = f(o.z);
+                            rp.dx[i] = 0, rp.dy[i] = 0, rp.dz[i] = -1;
+                            rp.tmin[i] = 0, rp.tmax[i] = INFINITY, rp.active[i] = -1;
+                        }
+                        REQUIRE(kernel.intersect(ps, rp, hp) == 0);
+                        for (int i = 0; i < kPacketWidth; ++i) {
+                            const Vec3d o{rp.ox[i], rp.oy[i], rp.oz[i]};
+                            const int id = reference::trace(scene, {o, {0, 0, -1}}).object;
+                            CHECK(hp.primitive[i] == id);
+                            if (id < 0) {
+                                CHECK(hp.material[i] == -1);
+                                CHECK(hp.mesh[i] == -1);
+                                continue;
+                            }
+                            ++hits;
+                            CHECK(hp.material[i] == reference::primitive_material(scene, id));
+                            CHECK(hp.mesh[i] == mesh_of_primitive[std::size_t(id)]);
+                        }
+                    }
+                    CHECK(hits >= spheres + 2 * mesh_count);
+                }
+        }
 }

@@ -93,7 +93,7 @@ int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
                 const V c = at(s.spheres.cx, s.spheres.cy, s.spheres.cz, k);
                 const double radius = s.spheres.radius[std::size_t(k)];
                 const float t = sphere(o, d, c, float(radius * radius));
-                take(t, s.offset[0] + k, (o + d * t - c) * s.spheres.inv_radius[std::size_t(k)]);
+                take(t, s.offset[0] + k, (o + d * t - c) * float(1.0 / radius));
             }
             for (int k = 0; k < s.count[1]; ++k) {
                 const V nn = at(s.planes.nx, s.planes.ny, s.planes.nz, k);
@@ -138,8 +138,8 @@ int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
         const bool hit = cid >= 0;
         hp.t[i] = hit ? best : std::numeric_limits<float>::infinity();
         hp.primitive[i] = hit ? int(s.object_of[std::size_t(cid)]) : -1;
-        hp.material[i] = hit ? int(s.material_of[std::size_t(cid)]) : -1;
-        hp.mesh[i] = hit ? int(s.mesh_of[std::size_t(cid)]) : -1;
+        hp.material[i] = s.owners.material(hp.primitive[i]);
+        hp.mesh[i] = s.owners.mesh(hp.primitive[i]);
         hp.nx[i] = hit ? n.x : 0, hp.ny[i] = hit ? n.y : 0, hp.nz[i] = hit ? n.z : 0;
         hp.hit[i] = hit ? -1 : 0;
     }
