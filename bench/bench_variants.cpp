@@ -48,7 +48,7 @@ void store_hit(const SceneData& s, const Ray<T, P>& r, const Closest<T>& best, V
     const T primitive = lane::select(hit, at(s.object_of), T(-1));
     store_index(hp.primitive, 0, primitive);
     T material, mesh;
-    owners_of<T, 0u>(s.owners, primitive, hit, material, mesh);  // no meshes in these subsets
+    owners_of<T, 0u>(s.owners, at, primitive, hit, material, mesh);  // no meshes in these subsets
     store_index(hp.material, 0, material);
     store_index(hp.mesh, 0, mesh);
     store(hp.nx, 0, lane::select(hit, n.x, T(0)));

@@ -297,7 +297,7 @@ std::size_t octray_bytes(const PacketScene& scene) {
     for (const Floats* f : {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz})
         b += held(*f);
     const PrimitiveOwners& o = d.owners;
-    for (const Floats* f : {&d.object_of, &d.compiled_of, &o.object_material, &o.mesh_first, &o.mesh_material})
+    for (const Floats* f : {&d.object_of, &d.compiled_of, &o.material_of, &o.mesh_first, &o.mesh_material})
         b += held(*f);
     return b;
 }

@@ -288,13 +288,15 @@ inline Vec3<T> face_forward(const SceneData& s, const Vec3<T>& n, const Ray<T, P
 }
 
 // The material and mesh of each hit lane's primitive (PrimitiveOwners), -1
-// elsewhere. Mesh triangles only where F has triangles.
+// elsewhere; `at` reads by the lanes' compiled ids. Mesh triangles only where
+// F has triangles.
 template <class T, unsigned F>
-inline void owners_of(const PrimitiveOwners& o, const T& primitive, const Mask<T>& hit, T& material, T& mesh) {
+inline void owners_of(const PrimitiveOwners& o, const Lookup<T>& at, const T& primitive, const Mask<T>& hit,
+                      T& material, T& mesh) {
     const Mask<T> object = hit && primitive < T(float(o.object_count));
-    material = o.object_material.empty()
-                   ? lane::select(object, T(o.common_material), T(-1))
-                   : lane::select(object, Lookup<T>(lane::keep(object, primitive), object)(o.object_material), T(-1));
+    const bool per_primitive = !o.material_of.empty();
+    material = per_primitive ? lane::select(hit, at(o.material_of), T(-1))
+                             : lane::select(object, T(o.common_material), T(-1));
     mesh = T(-1);
     if constexpr ((F & kTriangle) != 0) {
         const Mask<T> in_mesh = hit && lane::not_(object);
@@ -312,7 +314,7 @@ inline void owners_of(const PrimitiveOwners& o, const T& primitive, const Mask<T
             m = load_index<T>(id, 0);
         }
         m = lane::keep(in_mesh, m);
-        material = lane::select(in_mesh, Lookup<T>(m, in_mesh)(o.mesh_material), material);
+        if (!per_primitive) material = lane::select(in_mesh, Lookup<T>(m, in_mesh)(o.mesh_material), material);
         mesh = lane::select(in_mesh, m, T(-1));
     }
 }
@@ -331,7 +333,7 @@ inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8&
     const T primitive = lane::select(hit, at(s.object_of), T(-1));
     store_index(hp.primitive, lane, primitive);
     T material, mesh;
-    owners_of<T, F>(s.owners, primitive, hit, material, mesh);
+    owners_of<T, F>(s.owners, at, primitive, hit, material, mesh);
     store_index(hp.material, lane, material);
     store_index(hp.mesh, lane, mesh);
     store(hp.nx, lane, lane::keep(hit, n.x));

@@ -141,17 +141,17 @@ bvh::Box box_of(const Shape& shape) {
             {round_up(hi.x + slack), round_up(hi.y + slack), round_up(hi.z + slack)}};
 }
 
-// Materials and meshes by primitive id (PrimitiveOwners).
-void owners_of(const Scene& scene, const std::vector<std::size_t>& first_triangle, PrimitiveOwners& o) {
+// Materials and meshes (PrimitiveOwners); material_of sized, not filled.
+void owners_of(const Scene& scene, const std::vector<std::size_t>& first_triangle, std::size_t total,
+               PrimitiveOwners& o) {
     o.object_count = int(scene.objects.size());
     const bool common = std::all_of(scene.objects.begin(), scene.objects.end(),
                                     [&](const Object& x) { return x.material == scene.objects.front().material; });
     if (common) {
         o.common_material = scene.objects.empty() ? 0.0f : float(scene.objects.front().material);
     } else {
-        o.object_material.reserve(scene.objects.size() + std::size_t(kPacketWidth));
-        for (const Object& x : scene.objects) o.object_material.push_back(float(x.material));
-        pad(o.object_material);
+        o.material_of.reserve(total + std::size_t(kPacketWidth));
+        o.material_of.resize(total);
     }
     for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
         o.mesh_first.push_back(float(first_triangle[m]));
@@ -288,7 +288,8 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     for (Floats* f : {&s.object_of, &s.compiled_of}) f->reserve(total + std::size_t(kPacketWidth));
     s.object_of.resize(total);
     s.compiled_of.resize(total);
-    owners_of(scene, first_triangle, s.owners);
+    owners_of(scene, first_triangle, total, s.owners);
+    Floats& material_of = s.owners.material_of;
     for (int type = 0; type < kPrimitiveTypeCount; ++type) {
         const std::vector<std::size_t>& ids = of_type[std::size_t(type)];
         const bool planes = type == int(PrimitiveType::plane);
@@ -304,11 +305,13 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
             s.object_of[cid] = float(i);
             s.compiled_of[i] = float(cid);
             if (i < object_count) {
+                if (!material_of.empty()) material_of[cid] = float(scene.objects[i].material);
                 put_primitive(s, pos, scene.objects[i].shape);
                 continue;
             }
             const std::size_t m = std::size_t(std::upper_bound(first_triangle.begin(), first_triangle.end(), i) -
                                               first_triangle.begin()) - 1;
+            if (!material_of.empty()) material_of[cid] = float(scene.meshes[m].material);
             put_triangle(s.triangles, pos, reference::mesh_triangle(scene.meshes[m], i - first_triangle[m]));
         }
     }
@@ -329,7 +332,7 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
         s.object_of.push_back(0.0f);
         s.compiled_of.push_back(0.0f);
     }
-    pad(s.object_of, s.compiled_of);
+    pad(s.object_of, s.compiled_of, material_of);
 
     for (const DirectionalLight& l : scene.directional_lights) {
         auto& a = s.directional;

@@ -41,15 +41,18 @@ struct TriangleArrays {
     Floats nx, ny, nz;
 };
 
-// A hit's material and mesh, from its primitive id (objects first, then
-// each mesh's triangles: scene.hpp) rather than from per-primitive arrays:
-// per object its material, none when every object has the same one; per
-// mesh its first primitive id and its material. Read once per hit lane.
+// A hit's material and mesh. The mesh comes from the primitive id (objects
+// first, then each mesh's triangles: scene.hpp) and the meshes' first ids;
+// the material from the mesh's, or common_material for an object, where
+// every object has the same material; only where they differ is there a
+// material per compiled id (in leaf order: the hits of a packet read nearby
+// entries, where a table by primitive id would miss the cache on a large
+// scene). Read once per hit lane.
 struct PrimitiveOwners {
     int object_count = 0;
-    Floats object_material;  // per object; empty: every object's is common_material
+    Floats material_of;  // compiled id -> material; empty: objects' is common_material
     float common_material = 0;
-    Floats mesh_first;     // per mesh, ascending (an empty mesh: the next one's)
+    Floats mesh_first;     // per mesh, ascending
     Floats mesh_material;  // per mesh
 
     // Scalar forms (the kernels have lane forms); -1 for primitive -1.
@@ -57,10 +60,10 @@ struct PrimitiveOwners {
         if (primitive < object_count) return -1;
         return int(std::upper_bound(mesh_first.begin(), mesh_first.end(), float(primitive)) - mesh_first.begin()) - 1;
     }
-    int material(int primitive) const {
+    int material(int primitive, int compiled) const {
         if (primitive < 0) return -1;
-        if (primitive < object_count)
-            return int(object_material.empty() ? common_material : object_material[std::size_t(primitive)]);
+        if (!material_of.empty()) return int(material_of[std::size_t(compiled)]);
+        if (primitive < object_count) return int(common_material);
         return int(mesh_material[std::size_t(mesh(primitive))]);
     }
 };

@@ -138,7 +138,7 @@ int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
         const bool hit = cid >= 0;
         hp.t[i] = hit ? best : std::numeric_limits<float>::infinity();
         hp.primitive[i] = hit ? int(s.object_of[std::size_t(cid)]) : -1;
-        hp.material[i] = s.owners.material(hp.primitive[i]);
+        hp.material[i] = s.owners.material(hp.primitive[i], cid);
         hp.mesh[i] = s.owners.mesh(hp.primitive[i]);
         hp.nx[i] = hit ? n.x : 0, hp.ny[i] = hit ? n.y : 0, hp.nz[i] = hit ? n.z : 0;
         hp.hit[i] = hit ? -1 : 0;
