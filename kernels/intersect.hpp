@@ -310,7 +310,7 @@ inline void owners_of(const PrimitiveOwners& o, const Lookup<T>& at, const T& pr
         } else {
             std::int32_t id[lane::width<T>];
             store_index(id, 0, primitive);
-            for (int i = 0; i < lane::width<T>; ++i) id[i] = id[i] < o.object_count ? 0 : o.mesh(id[i]);
+            for (int i = 0; i < lane::width<T>; ++i) id[i] = o.mesh(id[i]);  // -1 for objects and misses: zeroed below
             m = load_index<T>(id, 0);
         }
         m = lane::keep(in_mesh, m);

@@ -142,7 +142,7 @@ bvh::Box box_of(const Shape& shape) {
 }
 
 // Materials and meshes (PrimitiveOwners); material_of sized, not filled.
-void owners_of(const Scene& scene, const std::vector<std::size_t>& first_triangle, std::size_t total,
+void fill_owners(const Scene& scene, const std::vector<std::size_t>& first_triangle, std::size_t total,
                PrimitiveOwners& o) {
     o.object_count = int(scene.objects.size());
     const bool common = std::all_of(scene.objects.begin(), scene.objects.end(),
@@ -288,7 +288,7 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     for (Floats* f : {&s.object_of, &s.compiled_of}) f->reserve(total + std::size_t(kPacketWidth));
     s.object_of.resize(total);
     s.compiled_of.resize(total);
-    owners_of(scene, first_triangle, total, s.owners);
+    fill_owners(scene, first_triangle, total, s.owners);
     Floats& material_of = s.owners.material_of;
     for (int type = 0; type < kPrimitiveTypeCount; ++type) {
         const std::vector<std::size_t>& ids = of_type[std::size_t(type)];
@@ -309,8 +309,7 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
                 put_primitive(s, pos, scene.objects[i].shape);
                 continue;
             }
-            const std::size_t m = std::size_t(std::upper_bound(first_triangle.begin(), first_triangle.end(), i) -
-                                              first_triangle.begin()) - 1;
+            const std::size_t m = std::size_t(s.owners.mesh(int(i)));
             if (!material_of.empty()) material_of[cid] = float(scene.meshes[m].material);
             put_triangle(s.triangles, pos, reference::mesh_triangle(scene.meshes[m], i - first_triangle[m]));
         }

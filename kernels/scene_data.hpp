@@ -114,7 +114,7 @@ struct SceneData {
     TriangleArrays triangles;
     Floats object_of;    // compiled id -> primitive id (scene.hpp; exact in float below 2^24)
     Floats compiled_of;  // primitive id -> compiled id (shading finds a sphere hit's centre)
-    PrimitiveOwners owners;  // primitive id -> material, mesh
+    PrimitiveOwners owners;  // a hit's mesh and material, from its primitive (or compiled) id
 
     int directional_count = 0, point_count = 0, point_attenuated_count = 0;
     DirectionalArrays directional;
