@@ -2,9 +2,10 @@
 // an 8-wide BVH (axis-aligned boxes, structure-of-arrays nodes whose 8
 // children are slab-tested at once), built by binned SAH (Wald 2007, "On fast
 // construction of SAH-based bounding volume hierarchies") into a binary tree
-// which is then collapsed into 8-wide nodes (as madmann91/bvh and Embree's
-// BVH8 do). Internal header: the builder is kernels/bvh_build.cpp, the walks
-// are kernels/bvh_traverse.hpp.
+// which is then collapsed into 8-wide nodes (SAH-optimally, as Ylitie et
+// al. 2017 do; madmann91/bvh and Embree's BVH8 collapse greedily).
+// Internal header: the builder is kernels/bvh_build.cpp, the walks are
+// kernels/bvh_traverse.hpp.
 //
 // The tree is one structure for primitives of several kinds (sphere, disk,
 // rectangle, box, triangle, mesh triangle, ...: up to kMaxKinds, numbered by
@@ -211,6 +212,11 @@ struct BuildOptions {
     // block of this many, and the primitives below a split count as packed
     // in blocks too, so the SAH fills leaves up to the block.
     int leaf_block = 8;
+    // How the binary tree becomes 8-wide: true, the SAH-optimal choice of
+    // the binary nodes that become wide nodes (bvh_collapse.cpp's Plan:
+    // fuller nodes, fewer of them); false, greedy (each node opens its
+    // largest child until it has 8).
+    bool sah_collapse = true;
     // OpenMP threads for the build; 0: OpenMP's default. The tree is the
     // same whatever the count.
     int threads = 0;

@@ -15,11 +15,12 @@
 //    the centroids (all at one point), or deep down (binary depth
 //    kForceMedianDepth), the node is split at its middle reference instead,
 //    which bounds the depth;
-// 3. a collapse, sequential and depth first (bvh_collapse.cpp): each wide
-//    node takes its binary node's two children and opens the child of
-//    largest area that is not a leaf (replacing it by its two children, in
-//    place) until it has 8 children or only leaves; leaves are numbered left
-//    to right, and each kind's permutation is written leaf by leaf.
+// 3. a collapse, sequential and depth first (bvh_collapse.cpp): which
+//    binary nodes become wide nodes is chosen for the least SAH cost by a
+//    table over the binary tree (Ylitie et al. 2017; BuildOptions::
+//    sah_collapse, else greedily: each wide node opens its largest child
+//    until it has 8); leaves are numbered left to right, and each kind's
+//    permutation is written leaf by leaf.
 //
 // Determinism: a node's split depends only on its references, in an order
 // fixed by its ancestors' in-place partitions (each run by one thread), and
@@ -168,7 +169,7 @@ Bvh8 build_bvh8(const BuildInput& in, const BuildOptions& opt) {
     }
 
     out.bounds = root.box.box();
-    collapse(bnodes.get(), next.load(), refs.get(), in.kind.empty() ? nullptr : in.kind.data(), index, out);
+    collapse(bnodes.get(), next.load(), refs.get(), in.kind.empty() ? nullptr : in.kind.data(), index, opt, out);
     return out;
 }
 

@@ -217,8 +217,9 @@ void check(bool ok, const char* what);
 
 // bvh_collapse.cpp: the wide tree from the binary one (step 3): out's nodes,
 // leaves, per-kind order and depth. kind: null for all kind 0; index: each
-// input primitive's index_in_kind; binary_nodes: how many bnodes holds.
+// input primitive's index_in_kind; binary_nodes: how many bnodes holds;
+// opt: the costs and BuildOptions::sah_collapse.
 void collapse(const BNode* bnodes, std::uint32_t binary_nodes, const Ref* refs, const std::uint8_t* kind,
-              const std::vector<std::uint32_t>& index, Bvh8& out);
+              const std::vector<std::uint32_t>& index, const BuildOptions& opt, Bvh8& out);
 
 }  // namespace octray::bvh::detail

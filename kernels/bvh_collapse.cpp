@@ -6,8 +6,63 @@
 #include "bvh_build_types.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 namespace octray::bvh::detail {
+
+// Which binary nodes become wide nodes: the SAH-optimal choice for the
+// binary tree as built (Ylitie, Karras and Laine 2017, "Efficient
+// incoherent ray traversal on GPUs through compressed wide BVHs", section
+// 4.1, with its leaves kept as the builder made them). cost[b][i - 1] is
+// the least SAH cost of binary subtree b spread over at most i child slots
+// of its wide parent: one slot holds b as a leaf or as a wide node of its
+// own (traversal_cost times its area, plus its subtree spread over 8
+// slots); more slots may hand b's two children k and i - k of them.
+// split[b][i - 1] records the choice: the left child's k (0: fewer slots
+// do as well); split[b][0] is the k of b's own wide node. The greedy
+// collapse leaves bottom nodes part full (a parent opens its children
+// until 8, so each child subtree keeps only a few leaves); the plan pulls
+// leaves up where that costs less, which fills the nodes.
+struct Plan {
+    std::vector<std::array<std::int8_t, kWidth>> split;
+
+    void make(const BNode* bnodes, std::uint32_t binary_nodes, const BuildOptions& opt) {
+        split.assign(binary_nodes, {});
+        std::vector<std::array<float, kWidth>> cost(binary_nodes);
+        solve(bnodes, 0, opt, cost);
+    }
+
+    void solve(const BNode* bnodes, std::uint32_t b, const BuildOptions& opt,
+               std::vector<std::array<float, kWidth>>& cost) {
+        const BNode& n = bnodes[b];
+        std::array<float, kWidth>& c = cost[b];
+        if (n.count > 0) {
+            c.fill(opt.intersection_cost * std::ceil(float(n.count) / float(opt.leaf_block)) * n.box.area());
+            return;
+        }
+        const std::uint32_t l = n.first, r = n.first + 1;
+        solve(bnodes, l, opt, cost);
+        solve(bnodes, r, opt, cost);
+        // spread[j]: the two children over at most j slots (j >= 2), and the left's share.
+        float spread[kWidth + 1];
+        std::int8_t share[kWidth + 1];
+        for (int j = 2; j <= kWidth; ++j) {
+            spread[j] = kInf, share[j] = 1;
+            for (int k = 1; k < j; ++k) {
+                const float v = cost[l][std::size_t(k - 1)] + cost[r][std::size_t(j - k - 1)];
+                if (v < spread[j]) spread[j] = v, share[j] = std::int8_t(k);
+            }
+        }
+        c[0] = opt.traversal_cost * n.box.area() + spread[kWidth];
+        split[b][0] = share[kWidth];
+        for (int i = 2; i <= kWidth; ++i) {
+            const bool fewer = !(spread[i] < c[std::size_t(i - 2)]);
+            c[std::size_t(i - 1)] = fewer ? c[std::size_t(i - 2)] : spread[i];
+            split[b][std::size_t(i - 1)] = fewer ? 0 : share[i];
+        }
+    }
+};
 
 // The wide tree from the binary one.
 struct Collapser {
@@ -16,6 +71,7 @@ struct Collapser {
     const std::uint8_t* kind;                  // null: all kind 0
     const std::vector<std::uint32_t>& index;  // index_in_kind per input primitive
     Bvh8& out;
+    Plan plan;  // empty: the greedy collapse
 
     std::int32_t leaf(const BNode& b) {
         Leaf l{};
@@ -31,18 +87,25 @@ struct Collapser {
         return ~std::int32_t(out.leaves.size() - 1);
     }
 
-    // The binary nodes that become the children of the wide node for
-    // binary node b (inner, or the root even as a leaf): its two children,
-    // then the largest (by area) inner one opened until there are 8 or only
-    // leaves. Left-to-right order is kept.
+    // The children of the wide node for binary node b (inner, or the root
+    // even as a leaf), left to right, by the plan where there is one (see
+    // Plan), else greedily: b's two children, then the largest (by area)
+    // inner one opened until there are 8 or only leaves.
     int open_children(std::uint32_t b, std::uint32_t kids[kWidth]) const {
         int k = 0;
         if (bnodes[b].count > 0) {
             kids[k++] = b;  // a root leaf: one child
-        } else {
-            kids[k++] = bnodes[b].first;
-            kids[k++] = bnodes[b].first + 1;
+            return k;
         }
+        if (!plan.split.empty()) {
+            const std::uint32_t first = bnodes[b].first;
+            const int left = plan.split[b][0];
+            take(first, left, kids, k);
+            take(first + 1, kWidth - left, kids, k);
+            return k;
+        }
+        kids[k++] = bnodes[b].first;
+        kids[k++] = bnodes[b].first + 1;
         while (k < kWidth) {
             int open = -1;
             float open_area = -1.0f;
@@ -58,6 +121,24 @@ struct Collapser {
             ++k;
         }
         return k;
+    }
+
+    // The children subtree b gives in at most `slots` slots, by the plan.
+    void take(std::uint32_t b, int slots, std::uint32_t kids[kWidth], int& k) const {
+        for (;;) {
+            const BNode& n = bnodes[b];
+            if (slots == 1 || n.count > 0) {
+                kids[k++] = b;
+                return;
+            }
+            const int left = plan.split[b][std::size_t(slots - 1)];
+            if (left == 0) {
+                --slots;
+                continue;
+            }
+            take(n.first, left, kids, k);
+            b = n.first + 1, slots -= left;
+        }
     }
 
     // How many wide nodes node(b) makes (to reserve them: no regrowth).
@@ -95,8 +176,9 @@ struct Collapser {
 };
 
 void collapse(const BNode* bnodes, std::uint32_t binary_nodes, const Ref* refs, const std::uint8_t* kind,
-              const std::vector<std::uint32_t>& index, Bvh8& out) {
-    Collapser c{bnodes, refs, kind, index, out};
+              const std::vector<std::uint32_t>& index, const BuildOptions& opt, Bvh8& out) {
+    Collapser c{bnodes, refs, kind, index, out, {}};
+    if (opt.sah_collapse) c.plan.make(bnodes, binary_nodes, opt);
     out.leaves.reserve((binary_nodes + 1) / 2);  // a binary tree of m nodes has (m + 1) / 2 leaves
     out.nodes.reserve(c.count(0));
     c.node(0, 1);

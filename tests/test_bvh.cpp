@@ -276,6 +276,29 @@ TEST_CASE("bvh: SAH cost is lower than a single leaf's") {
     CHECK(cost < 0.1 * double(in.boxes.size()));
 }
 
+TEST_CASE("bvh: the SAH collapse costs no more than the greedy one, over the same leaves") {
+    for (const std::size_t n : {std::size_t(50), std::size_t(3000), std::size_t(40000)}) {
+        for (const int max_leaf : {1, 8}) {
+            const BuildInput in = random_boxes(n, 3, 31u + unsigned(n));
+            BuildOptions sah, greedy;
+            sah.max_leaf_size = greedy.max_leaf_size = max_leaf;
+            greedy.sah_collapse = false;
+            const Bvh8 a = bvh::build_bvh8(in, sah), b = bvh::build_bvh8(in, greedy);
+            CAPTURE(n);
+            CAPTURE(max_leaf);
+            check_tree(in, a, sah);
+            check_tree(in, b, greedy);
+            // The same binary tree: the same leaves, in the same order.
+            CHECK(a.order == b.order);
+            REQUIRE(a.leaves.size() == b.leaves.size());
+            CHECK(std::memcmp(a.leaves.data(), b.leaves.data(), a.leaves.size() * sizeof(Leaf)) == 0);
+            // The plan is optimal in float sums; sah_cost sums in double.
+            const double cost_sah = bvh::sah_cost(a, sah), cost_greedy = bvh::sah_cost(b, greedy);
+            CHECK(cost_sah <= cost_greedy * (1.0 + 1e-5));
+        }
+    }
+}
+
 TEST_CASE("bvh walks: single float rays, double lanes, 4-float and 2-double packets (default target)") {
     check_walks<float>(1u, 120);
     check_walks<double>(2u, 60);
