@@ -194,14 +194,46 @@ inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
     return best;
 }
 
+// The 16-bit residuals of the lanes' sphere centres c (SphereArrays::cx_q),
+// decoded as residual16 does: k times 2^(e - 39), e = c's exponent (float
+// lanes: the exponent bits masked out of c; double lanes: lane by lane).
+template <class T>
+inline T centre_residual16(const AlignedVector<std::int16_t>& q, const Lookup<T>& at, const T& c) {
+    using S = lane::Scalar<T>;
+    const T k = at.uniform ? T(S(q[std::size_t(at.first)])) : lane::gather16(q.data(), at.idx);
+    if constexpr (std::is_same_v<T, float>) {
+        return k * residual_unit(c);
+    } else if constexpr (std::is_same_v<S, float>) {
+        // +inf's bits are the exponent field's mask, 0x7f800000
+        const T exponent = xsimd::bitwise_and(c, T(std::numeric_limits<float>::infinity()));
+        return k * (exponent * T(0x1p-39f));
+    } else {
+        constexpr int W = lane::width<T>;
+        alignas(64) S ks[W], cs[W];
+        if constexpr (W == 1) {
+            return k * S(residual_unit(float(c)));
+        } else {
+            k.store_aligned(ks), c.store_aligned(cs);
+            for (int i = 0; i < W; ++i) ks[i] *= S(residual_unit(float(cs[i])));
+            return T::load_aligned(ks);
+        }
+    }
+}
+
 // The normal of compiled spheres hit by r (their data read through `at`),
-// with the ray's residuals and the centres' (SphereArrays::cx_lo).
+// with the ray's residuals and the centres' (SphereArrays: 16-bit or float).
 template <class T, Precision P>
 inline Vec3<T> compiled_sphere_normal(const SceneData& s, const Lookup<T>& at, const Ray<T, P>& r,
                                       const RayResidual<T>& res, const Mask<T>& near) {
     const SphereArrays& a = s.spheres;
-    const Vec3<T> f_lo = a.cx_lo.empty() ? res.o : res.o - at(a.cx_lo, a.cy_lo, a.cz_lo);
-    return sphere_normal(r, at(a.cx, a.cy, a.cz), at(a.radius), near, SphereResidual<T>{f_lo, res.d});
+    const Vec3<T> c = at(a.cx, a.cy, a.cz);
+    Vec3<T> f_lo = res.o;
+    if (!a.cx_q.empty())
+        f_lo = res.o - Vec3<T>{centre_residual16(a.cx_q, at, c.x), centre_residual16(a.cy_q, at, c.y),
+                               centre_residual16(a.cz_q, at, c.z)};
+    else if (!a.cx_lo.empty())
+        f_lo = res.o - at(a.cx_lo, a.cy_lo, a.cz_lo);
+    return sphere_normal(r, c, at(a.radius), near, SphereResidual<T>{f_lo, res.d});
 }
 
 // Unit geometric normal of a primitive of type `Type` at the closest hit

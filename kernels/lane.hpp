@@ -94,6 +94,13 @@ inline float rsqrt14_estimate(float x) { return _mm_cvtss_f32(_mm_rsqrt14_ss(_mm
 inline float gather(const float* base, float index) { return base[int(index)]; }
 inline double gather(const double* base, double index) { return base[long(index)]; }
 inline double gather(const float* base, double index) { return double(base[long(index)]); }
+// The same from 16-bit unsigned entries (an id map of a small scene); the
+// array carries one entry of padding past the last index read (the wide
+// loads read 4 bytes at each entry).
+template <class E>
+inline float gather16(const E* base, float index) { return float(base[int(index)]); }
+template <class E>
+inline double gather16(const E* base, double index) { return double(base[long(index)]); }
 // Does `index` hold one value on every lane of `m`? Then `value` is it (as
 // an int); a packet of coherent rays mostly does, and one broadcast load is
 // then worth 8 gathered ones. One lane always agrees with itself.
@@ -277,6 +284,33 @@ inline xsimd::batch<S, A> gather(const S* base, const xsimd::batch<S, A>& index)
 #endif
     using I = xsimd::as_integer_t<S>;
     return B::gather(base, xsimd::batch_cast<I>(index));
+}
+// E: std::uint16_t or std::int16_t entries.
+template <class E, class S, class A>
+inline xsimd::batch<S, A> gather16(const E* base, const xsimd::batch<S, A>& index) {
+    using B = xsimd::batch<S, A>;
+    static_assert(sizeof(E) == 2, "16-bit entries");
+    constexpr bool kSigned = std::is_signed_v<E>;
+#if defined(__AVX2__)
+    if constexpr (std::is_same_v<S, float> && B::size == 8) {
+        const __m256i v = _mm256_i32gather_epi32(reinterpret_cast<const int*>(base), _mm256_cvttps_epi32(index), 2);
+        const __m256i e = kSigned ? _mm256_srai_epi32(_mm256_slli_epi32(v, 16), 16)
+                                  : _mm256_and_si256(v, _mm256_set1_epi32(0xffff));
+        return B(_mm256_cvtepi32_ps(e));
+    }
+#endif
+#if defined(__AVX512F__)
+    if constexpr (std::is_same_v<S, float> && B::size == 16) {
+        const __m512i v = _mm512_i32gather_epi32(_mm512_cvttps_epi32(index), base, 2);
+        const __m512i e = kSigned ? _mm512_srai_epi32(_mm512_slli_epi32(v, 16), 16)
+                                  : _mm512_and_si512(v, _mm512_set1_epi32(0xffff));
+        return B(_mm512_cvtepi32_ps(e));
+    }
+#endif
+    alignas(64) S at[B::size], out[B::size];
+    index.store_aligned(at);
+    for (std::size_t i = 0; i < B::size; ++i) out[i] = S(base[std::size_t(at[i])]);
+    return B::load_aligned(out);
 }
 template <class S, class A>
 inline bool uniform_on(const xsimd::batch<S, A>& index, const xsimd::batch_bool<S, A>& m, int& value) {

@@ -105,6 +105,10 @@ struct Lookup {
     // Every lane reads element k.
     static Lookup at_index(int k) { return Lookup(k); }
     T operator()(const Floats& a) const { return uniform ? T(a[std::size_t(first)]) : lane::gather(a.data(), idx); }
+    T operator()(const IdMap& m) const {
+        if (m.narrow_ids.empty()) return (*this)(m.wide);
+        return uniform ? T(lane::Scalar<T>(m.narrow_ids[std::size_t(first)])) : lane::gather16(m.narrow_ids.data(), idx);
+    }
     Vec3<T> operator()(const Floats& x, const Floats& y, const Floats& z) const {
         if (uniform) return broadcast3<T>(x, y, z, first);
         return gather3(x, y, z, idx);

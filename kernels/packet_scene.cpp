@@ -141,6 +141,33 @@ bvh::Box box_of(const Shape& shape) {
             {round_up(hi.x + slack), round_up(hi.y + slack), round_up(hi.z + slack)}};
 }
 
+// The centres' residuals in 16 bits (SphereArrays::cx_q..), where every one
+// decodes to within 2^-27 of its sphere's radius of the float residual (an
+// eighth of u of the radius: the normal's bound does not move); false, and
+// nothing kept, where one does not.
+bool compress_residuals(SphereArrays& sp) {
+    const std::size_t n = sp.cx_lo.size();
+    const Floats* c[3] = {&sp.cx, &sp.cy, &sp.cz};
+    const Floats* lo[3] = {&sp.cx_lo, &sp.cy_lo, &sp.cz_lo};
+    AlignedVector<std::int16_t>* q[3] = {&sp.cx_q, &sp.cy_q, &sp.cz_q};
+    for (int a = 0; a < 3; ++a) q[a]->resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double tolerance = double(sp.radius[i]) * 0x1p-27;
+        for (int a = 0; a < 3; ++a) {
+            const float centre = (*c[a])[i], residual = (*lo[a])[i];
+            const float unit = residual_unit(centre);
+            const double k = unit > 0.0f ? std::nearbyint(double(residual) / double(unit)) : 0.0;
+            const std::int16_t stored = std::int16_t(std::clamp(k, -32768.0, 32767.0));
+            (*q[a])[i] = stored;
+            if (!(std::abs(double(residual16(centre, stored)) - double(residual)) <= tolerance)) {
+                for (int b = 0; b < 3; ++b) AlignedVector<std::int16_t>().swap(*q[b]);
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
 // Materials and meshes (PrimitiveOwners); material_of sized, not filled.
 void fill_owners(const Scene& scene, const std::vector<std::size_t>& first_triangle, std::size_t total,
                PrimitiveOwners& o) {
@@ -285,9 +312,9 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     s.bvh.order.clear();
     size_arrays(s);
     const std::size_t total = id;
-    for (Floats* f : {&s.object_of, &s.compiled_of}) f->reserve(total + std::size_t(kPacketWidth));
-    s.object_of.resize(total);
-    s.compiled_of.resize(total);
+    for (Floats* f : {&s.object_of.wide, &s.compiled_of.wide}) f->reserve(total + std::size_t(kPacketWidth));
+    s.object_of.wide.resize(total);
+    s.compiled_of.wide.resize(total);
     fill_owners(scene, first_triangle, total, s.owners);
     Floats& material_of = s.owners.material_of;
     for (int type = 0; type < kPrimitiveTypeCount; ++type) {
@@ -302,8 +329,8 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
                 if (const std::size_t next = id_at(pos + ahead); next < object_count)
                     __builtin_prefetch(&scene.objects[next]), __builtin_prefetch(&scene.objects[next].material);
             const std::size_t cid = std::size_t(s.offset[std::size_t(type)]) + pos;
-            s.object_of[cid] = float(i);
-            s.compiled_of[i] = float(cid);
+            s.object_of.wide[cid] = float(i);
+            s.compiled_of.wide[i] = float(cid);
             if (i < object_count) {
                 if (!material_of.empty()) material_of[cid] = float(scene.objects[i].material);
                 put_primitive(s, pos, scene.objects[i].shape);
@@ -320,6 +347,8 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     auto is_zero = [](const Floats& f) { return std::all_of(f.begin(), f.end(), [](float x) { return x == 0.0f; }); };
     if (is_zero(sp.cx_lo) && is_zero(sp.cy_lo) && is_zero(sp.cz_lo))
         for (Floats* f : {&sp.cx_lo, &sp.cy_lo, &sp.cz_lo}) Floats().swap(*f);  // released (= {} keeps the capacity)
+    else if (compress_residuals(sp))
+        for (Floats* f : {&sp.cx_lo, &sp.cy_lo, &sp.cz_lo}) Floats().swap(*f);
     pad(s.planes.px, s.planes.py, s.planes.pz, s.planes.nx, s.planes.ny, s.planes.nz);
     pad(s.disks.cx, s.disks.cy, s.disks.cz, s.disks.nx, s.disks.ny, s.disks.nz, s.disks.radius2);
     auto& r = s.rectangles;
@@ -328,10 +357,12 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     auto& t = s.triangles;
     pad_for_runs(t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz, t.nx, t.ny, t.nz);
     if (total == 0) {  // keep the miss lanes' id lookups in bounds for an object-free scene
-        s.object_of.push_back(0.0f);
-        s.compiled_of.push_back(0.0f);
+        s.object_of.wide.push_back(0.0f);
+        s.compiled_of.wide.push_back(0.0f);
     }
-    pad(s.object_of, s.compiled_of, material_of);
+    pad(s.object_of.wide, s.compiled_of.wide, material_of);
+    s.object_of.narrow();
+    s.compiled_of.narrow();
 
     for (const DirectionalLight& l : scene.directional_lights) {
         auto& a = s.directional;

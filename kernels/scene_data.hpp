@@ -19,13 +19,35 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <cstring>
 
 namespace octray {
 
 // radius: as authored, rounded once (1e6 stays exact; its square would not).
-// cx_lo, cy_lo, cz_lo: the centre's rounding residuals (the authored centre
-// is c + c_lo to ~u^2 |c|), for the normal; empty when every centre is a float.
-struct SphereArrays { Floats cx, cy, cz, radius, cx_lo, cy_lo, cz_lo; };
+// The centre's rounding residuals, for the normal, in one of two forms (or
+// none, when every centre is a float): 16 bits a coordinate, cx_q..
+// (residual16), where that keeps each within 2^-27 of its sphere's radius,
+// which every sphere whose |c| is below ~2^13 radii meets; else floats,
+// cx_lo.. (the authored centre is c + c_lo to ~u^2 |c|).
+struct SphereArrays {
+    Floats cx, cy, cz, radius, cx_lo, cy_lo, cz_lo;
+    AlignedVector<std::int16_t> cx_q, cy_q, cz_q;
+};
+
+// A residual of float coordinate c in 16 bits: k units of ulp(c) 2^-16, that
+// is 2^(e - 39) for c's exponent e (0 for a zero or subnormal c, whose
+// residual is then dropped). The unit is a power of two, so the decoded
+// float is exact wherever 2^(e - 39) is a normal float.
+inline float residual_unit(float c) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &c, sizeof bits);
+    bits &= 0x7f800000u;  // 2^e, or 0
+    float p;
+    std::memcpy(&p, &bits, sizeof p);
+    return p * 0x1p-39f;
+}
+inline float residual16(float c, std::int16_t k) { return float(k) * residual_unit(c); }
 struct PlaneArrays { Floats px, py, pz, nx, ny, nz; };
 struct DiskArrays { Floats cx, cy, cz, nx, ny, nz, radius2; };
 // p = corner + s a + t b; s = (p - corner).dual_a, t = (p - corner).dual_b.
@@ -39,6 +61,30 @@ struct BoxArrays { Floats minx, miny, minz, maxx, maxy, maxz; };
 struct TriangleArrays {
     Floats ax, ay, az, bx, by, bz, cx, cy, cz;  // vertices v0, v1, v2
     Floats nx, ny, nz;
+};
+
+// A map between ids (compiled <-> primitive), read once per hit lane: in 16
+// bits where every id fits (a scene of at most 65536 primitives), else as
+// floats (exact below 2^24, which compile() enforces). compile() fills
+// `wide`, then narrows it where it can (narrow()). Either array carries
+// padding past the last id (the 16-bit gathers read 4 bytes an entry).
+struct IdMap {
+    Floats wide;
+    AlignedVector<std::uint16_t> narrow_ids;
+
+    float operator[](std::size_t i) const { return narrow_ids.empty() ? wide[i] : float(narrow_ids[i]); }
+    bool operator==(const IdMap& o) const { return wide == o.wide && narrow_ids == o.narrow_ids; }
+    std::size_t bytes() const {
+        return wide.capacity() * sizeof(float) + narrow_ids.capacity() * sizeof(std::uint16_t);
+    }
+    void narrow() {
+        if (wide.size() > 65536 + 64) return;
+        if (!std::all_of(wide.begin(), wide.end(), [](float v) { return v >= 0.0f && v < 65536.0f; })) return;
+        narrow_ids.reserve(wide.size() + 1);
+        for (const float v : wide) narrow_ids.push_back(std::uint16_t(v));
+        narrow_ids.push_back(0);
+        Floats().swap(wide);
+    }
 };
 
 // A hit's material and mesh. The mesh comes from the primitive id (objects
@@ -112,8 +158,8 @@ struct SceneData {
     RectangleArrays rectangles;
     BoxArrays boxes;
     TriangleArrays triangles;
-    Floats object_of;    // compiled id -> primitive id (scene.hpp; exact in float below 2^24)
-    Floats compiled_of;  // primitive id -> compiled id (shading finds a sphere hit's centre)
+    IdMap object_of;    // compiled id -> primitive id (scene.hpp)
+    IdMap compiled_of;  // primitive id -> compiled id (shading finds a sphere hit's centre)
     PrimitiveOwners owners;  // a hit's mesh and material, from its primitive (or compiled) id
 
     int directional_count = 0, point_count = 0, point_attenuated_count = 0;

@@ -48,6 +48,33 @@ TEST_CASE("compile() rejects scenes built in code that break the invariants, nam
     CHECK(message(bad).find("camera.up") != std::string::npos);
 }
 
+// SphereArrays: centres' residuals in 16 bits where each decodes to within
+// 2^-27 of its radius of the exact one, as floats where one would not.
+TEST_CASE("compile: sphere centre residuals in 16 bits near the origin, as floats far from it") {
+    RandomRays rays(23);
+    Scene near = one_object_scene(Sphere{{0.1, 0.2, 0.3}, 0.5});
+    for (int i = 0; i < 200; ++i)
+        near.objects.push_back(Object{Sphere{rays.in_cube(50), rays.uniform(0.02, 0.5)}, 0});
+    const PacketScene a = compile(near);
+    const SphereArrays& sa = a.data().spheres;
+    REQUIRE(!sa.cx_q.empty());
+    CHECK(sa.cx_lo.empty());
+    for (std::size_t k = 0; k < near.objects.size(); ++k) {
+        // compiled position k's sphere: its primitive id through object_of
+        const Sphere& s = std::get<Sphere>(near.objects[std::size_t(a.data().object_of[k])].shape);
+        CHECK(double(sa.cx[k]) == double(f(s.center.x)));
+        CHECK(std::fabs(double(residual16(sa.cx[k], sa.cx_q[k])) - (s.center.x - double(sa.cx[k]))) <=
+              std::ldexp(s.radius, -27));
+        CHECK(std::fabs(double(residual16(sa.cz[k], sa.cz_q[k])) - (s.center.z - double(sa.cz[k]))) <=
+              std::ldexp(s.radius, -27));
+    }
+    Scene far = near;
+    far.objects.push_back(Object{Sphere{{1e7 + 0.1, 0.3, 0.7}, 0.01}, 0});  // |c| / r = 1e9
+    const SphereArrays& sf = compile(far).data().spheres;
+    CHECK(sf.cx_q.empty());
+    CHECK(!sf.cx_lo.empty());
+}
+
 TEST_CASE("CompileOptions: the thread count never changes the tree; bad options are refused") {
     Scene s = one_object_scene(Sphere{{0, 0, 0}, 1});
     RandomRays rays(11);

@@ -4,6 +4,7 @@
 
 #include "support.hpp"
 
+#include "scene_data.hpp"
 #include "scene_loader.hpp"
 #include "verify.hpp"
 
@@ -209,6 +210,59 @@ TEST_CASE("HitPacket::invalid flags exactly the lanes that were masked off") {
 // many meshes (the kernel counts for a few, searches for many) of different
 // sizes. Rays straight down onto a grid of spheres and mesh quads, and
 // between them, against the reference's primitive and material.
+// The id maps (SceneData::object_of, compiled_of) are 16 bits wide up to
+// 65536 primitives and floats beyond: both widths, read by intersect (the
+// primitive id) and by shade (a sphere hit's centre, through its compiled
+// id), against the reference.
+TEST_CASE("primitive ids and sphere shading agree with the reference below and above 65536 primitives") {
+    for (const int side : {20, 265}) {  // 400 and 70225 spheres
+        CAPTURE(side);
+        Scene scene;
+        scene.materials.push_back(Material{"m", 0.2, 0.7, {1, 0.5, 0.25}});
+        for (int j = 0; j < side; ++j)
+            for (int i = 0; i < side; ++i) scene.objects.push_back(Object{Sphere{{3.0 * i, 3.0 * j, 0}, 1}, 0});
+        scene.point_lights.push_back(PointLight{{10, 20, 50}, {1, 1, 1}, 2000.0});
+        const PacketScene ps = compile(scene);
+        CHECK(ps.data().object_of.narrow_ids.empty() == (side * side > 65536));
+        CHECK(ps.data().compiled_of.narrow_ids.empty() == (side * side > 65536));
+        std::vector<int> targets;
+        for (int k = 0; k < side * side; k += side * side / 61) targets.push_back(k);
+        for (int k = side * side - 8; k < side * side; ++k) targets.push_back(k);
+        auto ray_at = [&](int k) {
+            return reference::Ray{{f(3.0 * (k % side) + 0.3), f(3.0 * (k / side) - 0.2), 5.0}, {0, 0, -1}};
+        };
+        std::vector<Vec3d> want;
+        for (const int k : targets) {
+            const reference::Hit hit = reference::trace(scene, ray_at(k));
+            REQUIRE(hit.object == k);
+            want.push_back(reference::shade(scene, ray_at(k), hit));
+        }
+        for (Isa isa : simd_isas())
+            for (Path path : {Path::scalar, Path::simd}) {
+                const Kernel kernel = select_kernel(ps, path, Precision::exact, isa);
+                for (std::size_t first = 0; first < targets.size(); first += kPacketWidth) {
+                    RayPacket8 rp;
+                    HitPacket8 hp;
+                    ColorPacket8 color;
+                    for (int i = 0; i < kPacketWidth; ++i) {
+                        const reference::Ray ray = ray_at(targets[std::min(first + std::size_t(i), targets.size() - 1)]);
+                        rp.ox[i] = f(ray.origin.x), rp.oy[i] = f(ray.origin.y), rp.oz[i] = f(ray.origin.z);
+                        rp.dx[i] = 0, rp.dy[i] = 0, rp.dz[i] = -1;
+                        rp.tmin[i] = 0, rp.tmax[i] = INFINITY, rp.active[i] = -1;
+                    }
+                    REQUIRE(kernel.intersect(ps, rp, hp) == 0);
+                    kernel.shade(ps, rp, hp, color);
+                    for (int i = 0; i < kPacketWidth; ++i) {
+                        const std::size_t t = std::min(first + std::size_t(i), targets.size() - 1);
+                        CHECK(hp.primitive[i] == targets[t]);
+                        CHECK(std::fabs(color.r[i] - want[t].x) <= 1e-4 * want[t].x);
+                        CHECK(std::fabs(color.b[i] - want[t].z) <= 1e-4 * want[t].z);
+                    }
+                }
+            }
+    }
+}
+
 TEST_CASE("hits report the material and mesh of their primitive, for any number of meshes") {
     for (const int mesh_count : {0, 1, 3, 17, 40})
         for (const bool common_material : {false, true}) {

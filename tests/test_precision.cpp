@@ -8,6 +8,7 @@
 
 #include "precision_units.hpp"
 #include "errtime.hpp"
+#include "scene_data.hpp"
 #include "scene_loader.hpp"
 #include "verify.hpp"
 
@@ -172,7 +173,8 @@ std::vector<char> edge_lanes(const Scene& scene, const ReferenceHits& r, double 
 // sphere hit (precision.hpp: e): the kernel's camera ray's distance from the
 // reference's hit point (the float ray plus its residuals, RayPacket::ox_lo...),
 // plus the rounding of the radius to float (the centre's is compensated,
-// SphereArrays::cx_lo). 0 on other lanes.
+// SphereArrays::cx_lo, or to within 2^-27 of the radius where the residuals
+// are kept in 16 bits, cx_q). 0 on other lanes.
 std::vector<double> sphere_offsets(const Scene& scene, const ReferenceHits& r, const Kernel& k, const PacketScene& packet) {
     const Camera& c = scene.camera;
     std::vector<double> out(r.hits.size(), 0.0);
@@ -190,7 +192,8 @@ std::vector<double> sphere_offsets(const Scene& scene, const ReferenceHits& r, c
             const Vec3d d{double(rp.dx[q]) + rp.dx_lo[q], double(rp.dy[q]) + rp.dy_lo[q], double(rp.dz[q]) + rp.dz_lo[q]};
             const Vec3d e = hit.point - o, dn = d * (1 / std::sqrt(dot(d, d)));
             const Vec3d across = e - dn * dot(e, dn);
-            out[lane] = std::sqrt(dot(across, across)) + std::fabs(round_to_float(s->radius) - s->radius);
+            const double centre = packet.data().spheres.cx_q.empty() ? 0.0 : std::ldexp(std::fabs(s->radius), -27);
+            out[lane] = std::sqrt(dot(across, across)) + std::fabs(round_to_float(s->radius) - s->radius) + centre;
         }
     return out;
 }

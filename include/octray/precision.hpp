@@ -88,10 +88,11 @@
 // the sphere by up to (u/2) sqrt(3) |c| likewise. So neither is rounded
 // alone: the camera kernel forms its rays in double from a double frame and
 // passes each as float + residual (RayPacket::ox_lo..., exact to ~u^2 |x|),
-// the compiled scene keeps each centre's residual (SphereArrays::cx_lo), and
+// the compiled scene keeps each centre's residual (SphereArrays: in 16 bits
+// where that is within 2^-27 R, an eighth of u R, else as a float), and
 // sphere_offset takes both into the foot of the perpendicular, to first
 // order in u: the residuals move q by ~u t, the products they are rounded in
-// by ~u^2 t, so e <= u^2 (t |d| + |c|) + the radius's rounding, u/2 R, which
+// by ~u^2 t, so e <= u^2 (t |d| + |c|) + 2^-27 R + the radius's rounding, u/2 R, which
 // enters h as u R / (2 cos): under sphere_normal_bound's own 4/cos. Measured
 // on the pinhole fields of scripts/make_sphere_fields.py, before and after:
 // docs/accuracy.md, "Small spheres through a pinhole camera". A ray an
