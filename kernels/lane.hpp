@@ -290,7 +290,7 @@ template <class E, class S, class A>
 inline xsimd::batch<S, A> gather16(const E* base, const xsimd::batch<S, A>& index) {
     using B = xsimd::batch<S, A>;
     static_assert(sizeof(E) == 2, "16-bit entries");
-    constexpr bool kSigned = std::is_signed_v<E>;
+    [[maybe_unused]] constexpr bool kSigned = std::is_signed_v<E>;
 #if defined(__AVX2__)
     if constexpr (std::is_same_v<S, float> && B::size == 8) {
         const __m256i v = _mm256_i32gather_epi32(reinterpret_cast<const int*>(base), _mm256_cvttps_epi32(index), 2);
