@@ -157,9 +157,11 @@ bool compress_residuals(SphereArrays& sp) {
             const float centre = (*c[a])[i], residual = (*lo[a])[i];
             const float unit = residual_unit(centre);
             const double k = unit > 0.0f ? std::nearbyint(double(residual) / double(unit)) : 0.0;
-            const std::int16_t stored = std::int16_t(std::clamp(k, -32768.0, 32767.0));
+            // A non-finite residual (a centre beyond float range) or k out of range: floats.
+            const bool fits = std::abs(k) <= 32767.0;
+            const std::int16_t stored = fits ? std::int16_t(k) : std::int16_t(0);
             (*q[a])[i] = stored;
-            if (!(std::abs(double(residual16(centre, stored)) - double(residual)) <= tolerance)) {
+            if (!fits || !(std::abs(double(residual16(centre, stored)) - double(residual)) <= tolerance)) {
                 for (int b = 0; b < 3; ++b) AlignedVector<std::int16_t>().swap(*q[b]);
                 return false;
             }

@@ -70,7 +70,8 @@ TEST_CASE("compile: sphere centre residuals in 16 bits near the origin, as float
     }
     Scene far = near;
     far.objects.push_back(Object{Sphere{{1e7 + 0.1, 0.3, 0.7}, 0.01}, 0});  // |c| / r = 1e9
-    const SphereArrays& sf = compile(far).data().spheres;
+    const PacketScene b = compile(far);
+    const SphereArrays& sf = b.data().spheres;
     CHECK(sf.cx_q.empty());
     CHECK(!sf.cx_lo.empty());
 }
