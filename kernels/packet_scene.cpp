@@ -157,8 +157,10 @@ bool compress_residuals(SphereArrays& sp) {
             const float centre = (*c[a])[i], residual = (*lo[a])[i];
             const float unit = residual_unit(centre);
             const double k = unit > 0.0f ? std::nearbyint(double(residual) / double(unit)) : 0.0;
-            // A non-finite residual (a centre beyond float range) or k out of range: floats.
-            const bool fits = std::abs(k) <= 32767.0;
+            // A non-finite residual (a centre beyond float range; NaN fails
+            // both compares) or k out of int16's range: floats. k = -32768
+            // is a residual of exactly half an ulp (a tie rounded up).
+            const bool fits = k >= -32768.0 && k <= 32767.0;
             const std::int16_t stored = fits ? std::int16_t(k) : std::int16_t(0);
             (*q[a])[i] = stored;
             if (!fits || !(std::abs(double(residual16(centre, stored)) - double(residual)) <= tolerance)) {
