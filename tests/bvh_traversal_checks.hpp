@@ -254,5 +254,33 @@ void check_walks(std::uint32_t seed, int packets) {
     }
 }
 
+// The walks' child order (bvh::detail::order_children) against a stable
+// sort of the entered slots by entry, farthest first (the nearest last,
+// visited first; on a tie the earlier slot nearer the front): every mask of
+// entered slots, over entries drawn from a few values (ties, +0 and -0) and
+// from a range, and in slot order when not nearest first.
+void check_child_order(std::uint32_t seed) {
+    BvhLcg rng{seed};
+    const float few[] = {0.0f, -0.0f, 1.0f, 2.5f, -3.0f, 1e30f};
+    for (int round = 0; round < 64; ++round) {
+        alignas(32) float entry[bvh::kWidth];
+        for (float& e : entry) e = round % 2 == 0 ? few[rng.next() % 6u] : rng.range(-5.0f, 5.0f);
+        for (unsigned bits = 1; bits < (1u << bvh::kWidth); ++bits) {
+            std::vector<int> want;
+            for (int i = 0; i < bvh::kWidth; ++i)
+                if ((bits >> i) & 1u) want.push_back(i);
+            std::vector<int> by_slot(want.rbegin(), want.rend());
+            std::stable_sort(want.begin(), want.end(), [&](int a, int b) { return entry[a] > entry[b]; });
+            int got[bvh::kWidth];
+            const int n = bvh::detail::order_children(bits, entry, true, got);
+            REQUIRE(n == int(want.size()));
+            CHECK(std::vector<int>(got, got + n) == want);
+            const int m = bvh::detail::order_children(bits, entry, false, got);
+            REQUIRE(m == int(by_slot.size()));
+            CHECK(std::vector<int>(got, got + m) == by_slot);
+        }
+    }
+}
+
 }  // namespace
 }  // namespace octray::test

@@ -304,6 +304,7 @@ TEST_CASE("bvh walks: single float rays, double lanes, 4-float and 2-double pack
     check_walks<double>(2u, 60);
     check_walks<xsimd::batch<float, xsimd::sse2>>(3u, 60);
     check_walks<xsimd::batch<double, xsimd::sse2>>(4u, 40);
+    check_child_order(5u);
 }
 
 TEST_CASE("bvh walks at AVX2: 8-float node batches, 8-float and 4-double packets") {

@@ -10,6 +10,7 @@ bool avx2_bvh_checks() {
     check_walks<float>(101u, 120);
     check_walks<xsimd::batch<float, xsimd::fma3<xsimd::avx2>>>(102u, 40);
     check_walks<xsimd::batch<double, xsimd::fma3<xsimd::avx2>>>(103u, 40);
+    check_child_order(104u);
     return true;
 }
 
