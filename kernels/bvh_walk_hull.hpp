@@ -29,6 +29,13 @@ namespace detail {
 struct Hull {
     float o_lo[3], o_hi[3], inv_lo[3], inv_hi[3], tmin;
     bool neg[3];
+    // The node test's operands, broadcast once a walk, and each axis' near
+    // and far child bounds as offsets into a Node8 (chosen by the octant
+    // once, not by a blend at every node): o_near is the origin bound the
+    // near plane is measured from (o_hi where d > 0, o_lo where d < 0),
+    // o_far the other.
+    NodeBatch o_near[3], o_far[3], inv_lo_n[3], inv_hi_n[3], tmin_n;
+    std::uint32_t near[3], far[3];
 };
 
 }  // namespace detail
@@ -58,28 +65,43 @@ inline bool make_hull(const RayView<T>& r, const Mask<T>& active, Hull& h) {
         h.inv_hi[a] = lane::lane0(lane::hmax(lane::select(active, *inv[a], T(0) - inf)));
     }
     h.tmin = lane::lane0(lane::hmin(lane::select(active, r.tmin, inf)));
+    for (int a = 0; a < 3; ++a) {
+        h.o_near[a] = NodeBatch(h.neg[a] ? h.o_lo[a] : h.o_hi[a]);
+        h.o_far[a] = NodeBatch(h.neg[a] ? h.o_hi[a] : h.o_lo[a]);
+        h.inv_lo_n[a] = NodeBatch(h.inv_lo[a]);
+        h.inv_hi_n[a] = NodeBatch(h.inv_hi[a]);
+        h.near[a] = h.neg[a] ? kUpperBounds[a] : kLowerBounds[a];
+        h.far[a] = h.neg[a] ? kLowerBounds[a] : kUpperBounds[a];
+    }
+    h.tmin_n = NodeBatch(h.tmin);
     return true;
 }
 
 // Narrows a batch of boxes' interval [enter, leave] by axis a of the hull
-// (lo, hi: the boxes' bounds on that axis): the smallest entry and the
+// (near, far: the boxes' bounds on that axis on the near and far side for
+// the hull's octant, hi and lo where d < 0): the smallest entry and the
 // greatest exit any ray of the hull has there.
 template <class N>
-[[gnu::always_inline]] inline void hull_axis(const Hull& h, int a, const N& lo, const N& hi, N& enter, N& leave) {
+[[gnu::always_inline]] inline void hull_axis(const Hull& h, int a, const N& near, const N& far, N& enter, N& leave) {
     const N inv_lo(h.inv_lo[a]), inv_hi(h.inv_hi[a]);
     // d > 0: t falls as o grows; d < 0: it rises (near - o and 1/d of opposite signs there).
-    const N near_d = (h.neg[a] ? hi : lo) - N(h.neg[a] ? h.o_lo[a] : h.o_hi[a]);
-    const N far_d = (h.neg[a] ? lo : hi) - N(h.neg[a] ? h.o_hi[a] : h.o_lo[a]);
+    const N near_d = near - N(h.neg[a] ? h.o_lo[a] : h.o_hi[a]);
+    const N far_d = far - N(h.neg[a] ? h.o_hi[a] : h.o_lo[a]);
     enter = lane::max(lane::min(near_d * inv_lo, near_d * inv_hi), enter);
     leave = lane::min(lane::max(far_d * inv_lo, far_d * inv_hi), leave);
 }
 
 // The children the hull enters before `limit` (the greatest tbest of the
-// active lanes), with the hull's entry bounds in `entry`.
-inline unsigned hull_children(const Node8& node, const Hull& h, float limit, float entry[kWidth]) {
+// active lanes), with the hull's entry bounds in `entry`: hull_axis's
+// arithmetic, on the operands make_hull broadcast.
+[[gnu::always_inline]] inline unsigned hull_children(const Node8& node, const Hull& h, float limit,
+                                                     float entry[kWidth]) {
     using N = NodeBatch;
-    return test_children(N(h.tmin), limit, entry, node, [&](int a, int i, N& enter, N& leave) {
-        hull_axis(h, a, child_bounds(node, kLowerBounds[a], i), child_bounds(node, kUpperBounds[a], i), enter, leave);
+    return test_children(h.tmin_n, limit, entry, node, [&](int a, int i, N& enter, N& leave) {
+        const N near_d = child_bounds(node, h.near[a], i) - h.o_near[a];
+        const N far_d = child_bounds(node, h.far[a], i) - h.o_far[a];
+        enter = lane::max(lane::min(near_d * h.inv_lo_n[a], near_d * h.inv_hi_n[a]), enter);
+        leave = lane::min(lane::max(far_d * h.inv_lo_n[a], far_d * h.inv_hi_n[a]), leave);
     });
 }
 
@@ -92,7 +114,10 @@ inline unsigned hull_children(const Node8& node, const Hull& h, float limit, flo
 template <class N>
 inline unsigned hull_boxes(const detail::Hull& h, float limit, const N lo[3], const N hi[3]) {
     N enter(h.tmin), leave(limit);
-    for (int a = 2; a >= 0; --a) detail::hull_axis(h, a, lo[a], hi[a], enter, leave);
+    for (int a = 2; a >= 0; --a) {  // the octant's sides by a branch (the same for the whole walk), not a blend
+        if (h.neg[a]) detail::hull_axis(h, a, hi[a], lo[a], enter, leave);
+        else detail::hull_axis(h, a, lo[a], hi[a], enter, leave);
+    }
     return unsigned(lane::bits(enter <= detail::grow(leave)));
 }
 
