@@ -76,6 +76,7 @@
 
 #include "lane.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
@@ -102,8 +103,13 @@ struct WalkOptions {
     // a leaf function that takes LaneOf) is tested lane by lane, each ray
     // against the leaf's primitives in the lanes.
     int leaf_lanes_alone = 2;
-    // Packets of float lanes in one direction octant walk by their hull.
+    // Packets of float lanes in one direction octant walk by their hull,
+    // except in a tree that is one node of at most flat_root_children
+    // children (all leaves): there each child's test on every lane costs
+    // less than making the hull (13 horizontal reductions), and the hull's
+    // cull of a leaf's run saves little with so few leaves.
     bool hull = true;
+    int flat_root_children = 4;
 };
 
 namespace detail {
@@ -210,6 +216,12 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
     }
 }
 
+// Whether the tree is its root alone with at most `children` children
+// (used slots come first: slot `children` is empty).
+inline bool flat_root(const Bvh8& bvh, int children) {
+    return bvh.depth == 1 && (children >= kWidth || bvh.nodes[0].child[std::max(children, 0)] == kEmptySlot);
+}
+
 template <bool Closest, class T, class LeafFn>
 void walk(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, const T& tbest, LeafFn& leaf,
           const WalkOptions& opt) {
@@ -229,7 +241,9 @@ void walk(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, const T& 
         }
     } else {
         if constexpr (std::is_same_v<lane::Scalar<T>, float> && lane::width<T> > 1)
-            if (opt.hull && walk_hull<Closest>(bvh, r, active, tbest, leaf, opt.leaf_lanes_alone)) return;
+            if (opt.hull && !flat_root(bvh, opt.flat_root_children) &&
+                walk_hull<Closest>(bvh, r, active, tbest, leaf, opt.leaf_lanes_alone))
+                return;
         walk_packet<Closest>(bvh, r, lanes_of<T>(~0u), active, tbest, leaf, opt);
     }
 }

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <limits>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 namespace octray::test {
@@ -150,8 +151,14 @@ void check_walks(std::uint32_t seed, int packets) {
     using S = lane::Scalar<T>;
     constexpr int W = lane::width<T>;
     using L = Lanes<T>;
-    for (const int max_leaf : {1, 4, 8}) {
-        const BoxScene scene(1500, max_leaf, seed + std::uint32_t(max_leaf));
+    // 20 boxes in leaves of 8: a root of a few leaf children, which packets
+    // walk without the hull even where it is on (WalkOptions::flat_root_children).
+    const std::pair<std::size_t, int> scenes[] = {{1500, 1}, {1500, 4}, {1500, 8}, {20, 8}};
+    for (const auto& sc : scenes) {
+        const std::size_t boxes = sc.first;
+        const int max_leaf = sc.second;
+        const BoxScene scene(boxes, max_leaf, seed + std::uint32_t(max_leaf) + (boxes == 1500 ? 0u : 1000u));
+        if (boxes == 20) REQUIRE(bvh::detail::flat_root(scene.tree, bvh::WalkOptions{}.flat_root_children));
         const std::vector<std::size_t> leaf_of = scene.leaf_of();
         const auto& leaves = scene.tree.leaves;
         BvhLcg rng{seed * 7u + 1u};
@@ -162,6 +169,7 @@ void check_walks(std::uint32_t seed, int packets) {
                 bvh::WalkOptions opt;
                 opt.single_ray_lanes = std::max(single, 0);
                 opt.hull = single < 0;  // the hull walk (coherent packets of float lanes)
+                CAPTURE(boxes);
                 CAPTURE(max_leaf);
                 CAPTURE(p);
                 CAPTURE(coherent);
