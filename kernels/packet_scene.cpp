@@ -158,10 +158,11 @@ bool compress_residuals(SphereArrays& sp) {
             const float unit = residual_unit(centre);
             const double k = unit > 0.0f ? std::nearbyint(double(residual) / double(unit)) : 0.0;
             // A non-finite residual (a centre beyond float range; NaN fails
-            // both compares) or k out of int16's range: floats. k = -32768
-            // is a residual of exactly half an ulp (a tie rounded up).
-            const bool fits = k >= -32768.0 && k <= 32767.0;
-            const std::int16_t stored = fits ? std::int16_t(k) : std::int16_t(0);
+            // the compare): floats. k = +-2^15 is a residual of exactly half
+            // an ulp (a tie): +2^15 is stored as 2^15 - 1, one unit off,
+            // which the tolerance below accepts or not like any other error.
+            const bool fits = std::abs(k) <= 32768.0;
+            const std::int16_t stored = fits ? std::int16_t(std::clamp(k, -32768.0, 32767.0)) : std::int16_t(0);
             (*q[a])[i] = stored;
             if (!fits || !(std::abs(double(residual16(centre, stored)) - double(residual)) <= tolerance)) {
                 for (int b = 0; b < 3; ++b) AlignedVector<std::int16_t>().swap(*q[b]);

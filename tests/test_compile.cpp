@@ -78,7 +78,8 @@ TEST_CASE("compile: sphere centre residuals in 16 bits near the origin, as float
     // A centre half a float ulp from two floats rounds to the even one: the
     // residual is then exactly 2^15 units of 2^(e - 39). 1 + 3 * 2^-24 rounds
     // up to 1 + 2^-22, k = -32768, which int16 holds; 1 + 2^-24 rounds down
-    // to 1, k = +32768, which it does not (floats are kept).
+    // to 1, k = +32768, stored as 32767: one unit (2^-39) off, within the
+    // tolerance 2^-27 r for r = 1, beyond it for r = 2^-13 (floats are kept).
     Scene tie_low = one_object_scene(Sphere{{1.0 + 3 * std::ldexp(1.0, -24), 0.25, 0.5}, 1.0});
     const PacketScene c = compile(tie_low);
     REQUIRE(!c.data().spheres.cx_q.empty());
@@ -86,8 +87,14 @@ TEST_CASE("compile: sphere centre residuals in 16 bits near the origin, as float
     CHECK(double(residual16(c.data().spheres.cx[0], c.data().spheres.cx_q[0])) == -std::ldexp(1.0, -24));
     Scene tie_high = one_object_scene(Sphere{{1.0 + std::ldexp(1.0, -24), 0.25, 0.5}, 1.0});
     const PacketScene d = compile(tie_high);
-    CHECK(d.data().spheres.cx_q.empty());
-    CHECK(double(d.data().spheres.cx_lo[0]) == std::ldexp(1.0, -24));
+    REQUIRE(!d.data().spheres.cx_q.empty());
+    CHECK(d.data().spheres.cx_q[0] == 32767);
+    CHECK(double(residual16(d.data().spheres.cx[0], d.data().spheres.cx_q[0])) ==
+          std::ldexp(1.0, -24) - std::ldexp(1.0, -39));
+    Scene tie_high_small = one_object_scene(Sphere{{1.0 + std::ldexp(1.0, -24), 0.25, 0.5}, std::ldexp(1.0, -13)});
+    const PacketScene e = compile(tie_high_small);
+    CHECK(e.data().spheres.cx_q.empty());
+    CHECK(double(e.data().spheres.cx_lo[0]) == std::ldexp(1.0, -24));
 }
 
 TEST_CASE("CompileOptions: the thread count never changes the tree; bad options are refused") {
