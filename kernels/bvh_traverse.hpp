@@ -32,7 +32,8 @@
 //     batch (two 4-float ones without AVX), the nearest entered child next.
 //   a packet of float lanes in one direction octant: its hull (walk_hull)
 //     tests each node's 8 children once for all lanes; a leaf's own lanes
-//     are then found exactly.
+//     are then found exactly. Not in a tree of one node with a few leaf
+//     children (WalkOptions::flat_root_children): it walks as below.
 //   any other packet: each child is tested against every lane (the child's
 //     bounds broadcast), its per-lane entry t kept on the stack; children
 //     are visited in the order of their nearest lane's entry t. A subtree
