@@ -77,31 +77,29 @@ inline bool make_hull(const RayView<T>& r, const Mask<T>& active, Hull& h) {
     return true;
 }
 
-// Narrows a batch of boxes' interval [enter, leave] by axis a of the hull
-// (near, far: the boxes' bounds on that axis on the near and far side for
-// the hull's octant, hi and lo where d < 0): the smallest entry and the
-// greatest exit any ray of the hull has there.
+// Narrows a batch of boxes' interval [enter, leave] by one axis of the hull:
+// near_d, far_d are the boxes' near and far bounds on that axis (hi and lo
+// where d < 0) less the origin bound each is measured from (o_hi and o_lo
+// where d > 0; o_lo and o_hi where d < 0); inv_lo, inv_hi the hull's
+// reciprocal directions. The result: the smallest entry and the greatest
+// exit any ray of the hull has there (d > 0: t falls as o grows; d < 0: it
+// rises, near - o and 1/d being of opposite signs there).
 template <class N>
-[[gnu::always_inline]] inline void hull_axis(const Hull& h, int a, const N& near, const N& far, N& enter, N& leave) {
-    const N inv_lo(h.inv_lo[a]), inv_hi(h.inv_hi[a]);
-    // d > 0: t falls as o grows; d < 0: it rises (near - o and 1/d of opposite signs there).
-    const N near_d = near - N(h.neg[a] ? h.o_lo[a] : h.o_hi[a]);
-    const N far_d = far - N(h.neg[a] ? h.o_hi[a] : h.o_lo[a]);
+[[gnu::always_inline]] inline void hull_axis(const N& near_d, const N& far_d, const N& inv_lo, const N& inv_hi, N& enter,
+                                             N& leave) {
     enter = lane::max(lane::min(near_d * inv_lo, near_d * inv_hi), enter);
     leave = lane::min(lane::max(far_d * inv_lo, far_d * inv_hi), leave);
 }
 
 // The children the hull enters before `limit` (the greatest tbest of the
-// active lanes), with the hull's entry bounds in `entry`: hull_axis's
-// arithmetic, on the operands make_hull broadcast.
+// active lanes), with the hull's entry bounds in `entry`, on the operands
+// make_hull broadcast.
 [[gnu::always_inline]] inline unsigned hull_children(const Node8& node, const Hull& h, float limit,
                                                      float entry[kWidth]) {
     using N = NodeBatch;
     return test_children(h.tmin_n, limit, entry, node, [&](int a, int i, N& enter, N& leave) {
-        const N near_d = child_bounds(node, h.near[a], i) - h.o_near[a];
-        const N far_d = child_bounds(node, h.far[a], i) - h.o_far[a];
-        enter = lane::max(lane::min(near_d * h.inv_lo_n[a], near_d * h.inv_hi_n[a]), enter);
-        leave = lane::min(lane::max(far_d * h.inv_lo_n[a], far_d * h.inv_hi_n[a]), leave);
+        hull_axis(child_bounds(node, h.near[a], i) - h.o_near[a], child_bounds(node, h.far[a], i) - h.o_far[a],
+                  h.inv_lo_n[a], h.inv_hi_n[a], enter, leave);
     });
 }
 
@@ -115,8 +113,10 @@ template <class N>
 inline unsigned hull_boxes(const detail::Hull& h, float limit, const N lo[3], const N hi[3]) {
     N enter(h.tmin), leave(limit);
     for (int a = 2; a >= 0; --a) {  // the octant's sides by a branch (the same for the whole walk), not a blend
-        if (h.neg[a]) detail::hull_axis(h, a, hi[a], lo[a], enter, leave);
-        else detail::hull_axis(h, a, lo[a], hi[a], enter, leave);
+        const N o_near(h.neg[a] ? h.o_lo[a] : h.o_hi[a]), o_far(h.neg[a] ? h.o_hi[a] : h.o_lo[a]);
+        const N inv_lo(h.inv_lo[a]), inv_hi(h.inv_hi[a]);
+        if (h.neg[a]) detail::hull_axis(hi[a] - o_near, lo[a] - o_far, inv_lo, inv_hi, enter, leave);
+        else detail::hull_axis(lo[a] - o_near, hi[a] - o_far, inv_lo, inv_hi, enter, leave);
     }
     return unsigned(lane::bits(enter <= detail::grow(leave)));
 }
