@@ -37,26 +37,38 @@ void interleave_rgb(const ColorPacket8& c, int n, float* dst) {
 
 }  // namespace
 
+// Packets shaded before their tone maps run, back to back. A tone map is a
+// few chains of dependent polynomial steps; run between one packet's shading
+// and the next packet's camera rays it leaves the core idle on their
+// latency, run over a group the chains of neighbouring packets overlap.
+constexpr int kToneGroup = 8;
+
 void render_rows(const Kernel& k, const PacketScene& scene, int y0, int y1, Image<float>& hdr, Image<float>* display,
                  RenderCounters* counters, std::int32_t* primitive_ids) noexcept {
     RayPacket8 rays;
     HitPacket8 hits;
-    ColorPacket8 radiance, shown;
+    ColorPacket8 radiance[kToneGroup], shown;
     RenderCounters local;
     const int width = scene.width();
+    const int group_width = kPacketWidth * kToneGroup;
     for (int y = y0; y < y1; ++y) {
-        for (int x0 = 0; x0 < width; x0 += kPacketWidth) {
-            k.camera(scene, x0, y, rays);
-            local.masked += std::uint64_t(k.intersect(scene, rays, hits));
-            k.shade(scene, rays, hits, radiance);
-            const int n = std::min(kPacketWidth, width - x0);
-            local.rays += std::uint64_t(n);
-            interleave_rgb(radiance, n, hdr.pixel(x0, y));
-            if (primitive_ids)
-                std::copy(hits.primitive, hits.primitive + n, primitive_ids + std::size_t(y) * std::size_t(width) + std::size_t(x0));
-            if (display) {
-                k.tonemap(scene, radiance, shown);
-                interleave_rgb(shown, n, display->pixel(x0, y));
+        for (int g0 = 0; g0 < width; g0 += group_width) {
+            const int g1 = std::min(width, g0 + group_width);
+            for (int x0 = g0, j = 0; x0 < g1; x0 += kPacketWidth, ++j) {
+                k.camera(scene, x0, y, rays);
+                local.masked += std::uint64_t(k.intersect(scene, rays, hits));
+                k.shade(scene, rays, hits, radiance[j]);
+                const int n = std::min(kPacketWidth, width - x0);
+                local.rays += std::uint64_t(n);
+                interleave_rgb(radiance[j], n, hdr.pixel(x0, y));
+                if (primitive_ids)
+                    std::copy(hits.primitive, hits.primitive + n,
+                              primitive_ids + std::size_t(y) * std::size_t(width) + std::size_t(x0));
+            }
+            if (!display) continue;
+            for (int x0 = g0, j = 0; x0 < g1; x0 += kPacketWidth, ++j) {
+                k.tonemap(scene, radiance[j], shown);
+                interleave_rgb(shown, std::min(kPacketWidth, width - x0), display->pixel(x0, y));
             }
         }
     }

@@ -122,6 +122,50 @@ TEST_CASE("threads rendering disjoint rows of one shared scene give the one-thre
     }
 }
 
+TEST_CASE("render_rows gives the kernel stages' results, packet by packet, bit for bit") {
+    // render_rows tone-maps a row's packets in groups after shading them;
+    // widths of a partial group (61) and of two whole groups and a partial
+    // packet (131) against each packet's camera, intersect, shade and tone map.
+    for (const int width : {61, 131}) {
+        Scene scene = shared_scene();
+        scene.camera.width = width;
+        const PacketScene ps = compile(scene);
+        const int h = ps.height();
+        for (const Kernel& k : every_kernel()) {
+            CAPTURE(k.name());
+            CAPTURE(width);
+            Image<float> hdr(width, h), display(width, h);
+            std::vector<std::int32_t> ids(std::size_t(width) * std::size_t(h));
+            RenderCounters counters;
+            render_rows(k, ps, 0, h, hdr, &display, &counters, ids.data());
+            RayPacket8 rays;
+            HitPacket8 hits;
+            ColorPacket8 radiance, shown;
+            std::uint64_t masked = 0;
+            int differing = 0;
+            for (int y = 0; y < h; ++y) {
+                for (int x0 = 0; x0 < width; x0 += kPacketWidth) {
+                    k.camera(ps, x0, y, rays);
+                    masked += std::uint64_t(k.intersect(ps, rays, hits));
+                    k.shade(ps, rays, hits, radiance);
+                    k.tonemap(ps, radiance, shown);
+                    for (int i = 0; i < kPacketWidth && x0 + i < width; ++i) {
+                        const float* p = hdr.pixel(x0 + i, y);
+                        const float* q = display.pixel(x0 + i, y);
+                        const float want[6] = {radiance.r[i], radiance.g[i], radiance.b[i], shown.r[i], shown.g[i], shown.b[i]};
+                        const float got[6] = {p[0], p[1], p[2], q[0], q[1], q[2]};
+                        differing += std::memcmp(want, got, sizeof want) != 0 ||
+                                     ids[std::size_t(y) * std::size_t(width) + std::size_t(x0 + i)] != hits.primitive[i];
+                    }
+                }
+            }
+            CHECK(differing == 0);
+            CHECK(counters.rays == std::uint64_t(width) * std::uint64_t(h));
+            CHECK(counters.masked == masked);
+        }
+    }
+}
+
 TEST_CASE("threads tracing their own packets against one shared scene get the one-thread results bit for bit") {
     const Scene scene = shared_scene();
     const PacketScene shared = compile(scene);
