@@ -45,6 +45,7 @@ Kernel make_kernel_at(Path path, const char* isa, unsigned primitive_bits, unsig
     k.precision = P;
     k.isa = isa;
     k.tonemap = &tonemap_packet<T, P>;
+    k.tonemap_group = &tonemap_group<T, P>;
     k.camera = &camera_packet<T, P>;
     k.occluded = &occluded_packet<T, P, kAllPrimitives>;
     if constexpr (Specialize) {

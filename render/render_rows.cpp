@@ -40,14 +40,15 @@ void interleave_rgb(const ColorPacket8& c, int n, float* dst) {
 // Packets shaded before their tone maps run, back to back. A tone map is a
 // few chains of dependent polynomial steps; run between one packet's shading
 // and the next packet's camera rays it leaves the core idle on their
-// latency, run over a group the chains of neighbouring packets overlap.
+// latency; over a group (Kernel::tonemap_group, two packets in lockstep) the
+// chains of neighbouring packets overlap.
 constexpr int kToneGroup = 8;
 
 void render_rows(const Kernel& k, const PacketScene& scene, int y0, int y1, Image<float>& hdr, Image<float>* display,
                  RenderCounters* counters, std::int32_t* primitive_ids) noexcept {
     RayPacket8 rays;
     HitPacket8 hits;
-    ColorPacket8 radiance[kToneGroup], shown;
+    ColorPacket8 radiance[kToneGroup], shown[kToneGroup];
     RenderCounters local;
     const int width = scene.width();
     const int group_width = kPacketWidth * kToneGroup;
@@ -66,10 +67,11 @@ void render_rows(const Kernel& k, const PacketScene& scene, int y0, int y1, Imag
                               primitive_ids + std::size_t(y) * std::size_t(width) + std::size_t(x0));
             }
             if (!display) continue;
-            for (int x0 = g0, j = 0; x0 < g1; x0 += kPacketWidth, ++j) {
-                k.tonemap(scene, radiance[j], shown);
-                interleave_rgb(shown, std::min(kPacketWidth, width - x0), display->pixel(x0, y));
-            }
+            const int count = (g1 - g0 + kPacketWidth - 1) / kPacketWidth;
+            if (k.tonemap_group) k.tonemap_group(scene, radiance, shown, count);
+            else for (int j = 0; j < count; ++j) k.tonemap(scene, radiance[j], shown[j]);
+            for (int x0 = g0, j = 0; x0 < g1; x0 += kPacketWidth, ++j)
+                interleave_rgb(shown[j], std::min(kPacketWidth, width - x0), display->pixel(x0, y));
         }
     }
     if (counters) {

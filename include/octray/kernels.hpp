@@ -9,6 +9,7 @@
 //     int masked = k.intersect(scene, rays, hits);   // lanes masked off for bad input
 //     k.shade(scene, rays, hits, radiance);            // HDR radiance
 //     k.tonemap(scene, radiance, display);             // display colour in [0,1]
+//     k.tonemap_group(scene, radiance_array, display_array, n);  // n packets: n tonemap calls' bits
 //
 // All stages are noexcept, allocate nothing, touch no global state and only
 // read the PacketScene, so any number of threads may share one scene.
@@ -49,12 +50,14 @@ using OccludedFn = void (*)(const PacketScene&, const RayPacket8&, std::int32_t*
 using ShadeFn = void (*)(const PacketScene&, const RayPacket8&, const HitPacket8&, ColorPacket8&) noexcept;
 using TonemapFn = void (*)(const PacketScene&, const ColorPacket8&, ColorPacket8&) noexcept;
 using CameraFn = void (*)(const PacketScene&, int x0, int y, RayPacket8&) noexcept;
+using TonemapGroupFn = void (*)(const PacketScene&, const ColorPacket8* in, ColorPacket8* out, int count) noexcept;
 
 struct Kernel {
     IntersectFn intersect = nullptr;  // closest hit; returns lanes masked off (active but invalid)
     OccludedFn occluded = nullptr;    // any hit in (tmin, tmax); occluded[i] = -1 or 0
     ShadeFn shade = nullptr;          // HDR radiance; misses and inactive lanes get the background
     TonemapFn tonemap = nullptr;      // scene's tone map and gamma; NaN/inf map into gamut
+    TonemapGroupFn tonemap_group = nullptr;  // tonemap of in[0..count) into out[]; two packets' work interleaved
     CameraFn camera = nullptr;        // pixels (x0..x0+7, y); lanes past the width are inactive
     Path path = Path::simd;
     Precision precision = Precision::exact;
