@@ -374,18 +374,16 @@ py::array_t<std::uint8_t> tonemap(const SceneHandle& s, const py::handle& hdr_ob
         Image<float> shown(int(std::min<std::size_t>(pixels, 1u << 20)), 1);
         for (std::size_t first = 0; first < pixels; first += std::size_t(shown.width)) {
             const std::size_t count = std::min<std::size_t>(std::size_t(shown.width), pixels - first);
-            for (std::size_t p = 0; p < count; p += 8) {
-                ColorPacket8 in{}, disp{};
-                const int lanes = int(std::min<std::size_t>(8, count - p));
-                for (int i = 0; i < lanes; ++i) {
-                    const float* c = src + 3 * (first + p + std::size_t(i));
-                    in.r[i] = c[0], in.g[i] = c[1], in.b[i] = c[2];
-                }
-                k.tonemap(s.compiled, in, disp);
-                for (int i = 0; i < lanes; ++i) {
-                    float* c = shown.pixel(int(p) + i, 0);
-                    c[0] = disp.r[i], c[1] = disp.g[i], c[2] = disp.b[i];
-                }
+            const std::size_t packets = (count + 7) / 8;
+            std::vector<ColorPacket8> in(packets), disp(packets);  // zero lanes past the end
+            for (std::size_t i = 0; i < count; ++i) {
+                const float* c = src + 3 * (first + i);
+                in[i / 8].r[i % 8] = c[0], in[i / 8].g[i % 8] = c[1], in[i / 8].b[i % 8] = c[2];
+            }
+            k.tonemap_group(s.compiled, in.data(), disp.data(), int(packets));
+            for (std::size_t i = 0; i < count; ++i) {
+                float* c = shown.pixel(int(i), 0);
+                c[0] = disp[i / 8].r[i % 8], c[1] = disp[i / 8].g[i % 8], c[2] = disp[i / 8].b[i % 8];
             }
             Image<float> row(int(count), 1);
             std::copy_n(shown.rgb.begin(), 3 * count, row.rgb.begin());
