@@ -49,6 +49,12 @@ bool near_boundary(const Shape& shape, const reference::Ray& ray, double rel) {
     return false;
 }
 
+void set_ray(RayPacket8& rp, int lane, const Vec3d& o, const Vec3d& d) {
+    rp.ox[lane] = f(o.x), rp.oy[lane] = f(o.y), rp.oz[lane] = f(o.z);
+    rp.dx[lane] = f(d.x), rp.dy[lane] = f(d.y), rp.dz[lane] = f(d.z);
+    rp.tmin[lane] = 0, rp.tmax[lane] = INFINITY, rp.active[lane] = -1;
+}
+
 Scene one_object_scene(const Shape& shape) {
     Scene s;
     s.materials.push_back(Material{"m", 0.25, 0.65, {1, 1, 1}});

@@ -36,6 +36,9 @@ Shape random_shape(PrimitiveType type, RandomRays& r);
 // within float rounding of the primitive's boundary, where either answer is right.
 bool near_boundary(const Shape& shape, const reference::Ray& ray, double rel);
 
+// Lane `lane` of `rp`: the ray o + t d, t in (0, inf), active; o and d rounded to float.
+void set_ray(RayPacket8& rp, int lane, const Vec3d& o, const Vec3d& d);
+
 // One object, one material (ka 0.25, kd 0.65, white), no lights.
 Scene one_object_scene(const Shape& shape);
 

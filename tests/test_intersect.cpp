@@ -48,9 +48,7 @@ TEST_CASE("randomized packets agree with the reference lane by lane, for every p
                             if (dot(aim, aim) > 1e-6) d = fl(aim * (1 / std::sqrt(dot(aim, aim))));
                         }
                         refs[i] = {o, d};
-                        rp.ox[i] = f(o.x), rp.oy[i] = f(o.y), rp.oz[i] = f(o.z);
-                        rp.dx[i] = f(d.x), rp.dy[i] = f(d.y), rp.dz[i] = f(d.z);
-                        rp.tmin[i] = 0, rp.tmax[i] = INFINITY, rp.active[i] = -1;
+                        set_ray(rp, i, o, d);
                     }
                     HitPacket8 hp;
                     REQUIRE(k.intersect(ps, rp, hp) == 0);
@@ -246,9 +244,7 @@ TEST_CASE("primitive ids and sphere shading agree with the reference below and a
                     ColorPacket8 color;
                     for (int i = 0; i < kPacketWidth; ++i) {
                         const reference::Ray ray = ray_at(targets[std::min(first + std::size_t(i), targets.size() - 1)]);
-                        rp.ox[i] = f(ray.origin.x), rp.oy[i] = f(ray.origin.y), rp.oz[i] = f(ray.origin.z);
-                        rp.dx[i] = 0, rp.dy[i] = 0, rp.dz[i] = -1;
-                        rp.tmin[i] = 0, rp.tmax[i] = INFINITY, rp.active[i] = -1;
+                        set_ray(rp, i, ray.origin, {0, 0, -1});
                     }
                     REQUIRE(kernel.intersect(ps, rp, hp) == 0);
                     kernel.shade(ps, rp, hp, color);
@@ -305,9 +301,7 @@ TEST_CASE("hits report the material and mesh of their primitive, for any number 
                         HitPacket8 hp;
                         for (int i = 0; i < kPacketWidth; ++i) {
                             const Vec3d o = targets[std::min(first + std::size_t(i), targets.size() - 1)];
-                            rp.ox[i] = f(o.x), rp.oy[i] = f(o.y), rp.oz[i] = f(o.z);
-                            rp.dx[i] = 0, rp.dy[i] = 0, rp.dz[i] = -1;
-                            rp.tmin[i] = 0, rp.tmax[i] = INFINITY, rp.active[i] = -1;
+                            set_ray(rp, i, o, {0, 0, -1});
                         }
                         REQUIRE(kernel.intersect(ps, rp, hp) == 0);
                         for (int i = 0; i < kPacketWidth; ++i) {
