@@ -497,8 +497,9 @@ TEST_CASE("errtime measures every path x mode and writes the table and CSV") {
 //     |t - t_ref| <= div_bound(mode) |t| + 8 u (|t| + S / |d|) / cos
 // (S: the triangle's diameter, cos = |n.d| / |d|) on every unit and mode,
 // for triangles 1 to 2^14 units out, 2^-12 to 1 of their distance across,
-// rays from near the origin at any angle down to cos = 2^-10 and |d| from
-// 2^-4 to 2^4. Inputs float-exact; the reference is the double test.
+// rays from half to twice that distance away, aimed inside the triangle at
+// cos from 1 down to 2^-10, |d| from 2^-4 to 2^4. Inputs float-exact; the
+// reference is the double test.
 TEST_CASE("triangle hits: t within the stated bound far out, small and at grazing angles, in every mode") {
     constexpr double u = kUnitRoundoff;
     constexpr double kBound = 8;
