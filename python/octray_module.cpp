@@ -370,23 +370,24 @@ py::array_t<std::uint8_t> tonemap(const SceneHandle& s, const py::handle& hdr_ob
     {
         const float* src = f.data();
         py::gil_scoped_release release;
-        // One row of the display image per packet of pixels, quantized as quantize() does.
-        Image<float> shown(int(std::min<std::size_t>(pixels, 1u << 20)), 1);
-        for (std::size_t first = 0; first < pixels; first += std::size_t(shown.width)) {
-            const std::size_t count = std::min<std::size_t>(std::size_t(shown.width), pixels - first);
+        // Up to 2^20 pixels at a time as one row of the display image,
+        // quantized as quantize() does.
+        const std::size_t chunk = std::min<std::size_t>(pixels, 1u << 20);
+        std::vector<ColorPacket8> in((chunk + 7) / 8), disp(in.size());
+        for (std::size_t first = 0; first < pixels; first += chunk) {
+            const std::size_t count = std::min(chunk, pixels - first);
             const std::size_t packets = (count + 7) / 8;
-            std::vector<ColorPacket8> in(packets), disp(packets);  // zero lanes past the end
+            in[packets - 1] = ColorPacket8{};  // lanes past the end: zero
             for (std::size_t i = 0; i < count; ++i) {
                 const float* c = src + 3 * (first + i);
                 in[i / 8].r[i % 8] = c[0], in[i / 8].g[i % 8] = c[1], in[i / 8].b[i % 8] = c[2];
             }
             k.tonemap_group(s.compiled, in.data(), disp.data(), int(packets));
+            Image<float> row(int(count), 1);
             for (std::size_t i = 0; i < count; ++i) {
-                float* c = shown.pixel(int(i), 0);
+                float* c = row.pixel(int(i), 0);
                 c[0] = disp[i / 8].r[i % 8], c[1] = disp[i / 8].g[i % 8], c[2] = disp[i / 8].b[i % 8];
             }
-            Image<float> row(int(count), 1);
-            std::copy_n(shown.rgb.begin(), 3 * count, row.rgb.begin());
             const ImageRGB8 q = quantize(row);
             std::copy(q.rgb.begin(), q.rgb.end(), out.begin() + std::ptrdiff_t(3 * first));
         }
