@@ -29,7 +29,6 @@ TEST_CASE("triangle hits: t within the stated bound far out, small and at grazin
         CAPTURE(unit_name(unit, p));
         const Kernel k = unit.kernel(p, kAllFeatures, kAllFeatures);
         Rng rng(2026);
-        auto fl = [](const Vec3d& v) { return Vec3d{double(float(v.x)), double(float(v.y)), double(float(v.z))}; };
         auto unit_vec = [&]() {
             for (;;) {
                 const Vec3d v{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
@@ -42,7 +41,8 @@ TEST_CASE("triangle hits: t within the stated bound far out, small and at grazin
         for (int tri = 0; tri < 96; ++tri) {
             const double dist = std::exp2(rng.uniform(0, 14)), size = dist * std::exp2(rng.uniform(-12, 0));
             const Vec3d centre = unit_vec() * dist;
-            Triangle shape{fl(centre + unit_vec() * size), fl(centre + unit_vec() * size), fl(centre + unit_vec() * size)};
+            const Triangle shape{test::fl(centre + unit_vec() * size), test::fl(centre + unit_vec() * size),
+                                 test::fl(centre + unit_vec() * size)};
             const Vec3d e1 = shape.v1 - shape.v0, e2 = shape.v2 - shape.v0;
             Vec3d n = cross(e1, e2);
             if (dot(n, n) < 1e-6 * dot(e1, e1) * dot(e2, e2)) continue;  // a sliver: its normal is not the point
@@ -62,8 +62,8 @@ TEST_CASE("triangle hits: t within the stated bound far out, small and at grazin
                     Vec3d side = cross(n, unit_vec());
                     side = side * (1 / std::sqrt(dot(side, side)));
                     const Vec3d dir = n * (rng.uniform(0, 1) < 0.5 ? cosine : -cosine) + side * std::sqrt(1 - cosine * cosine);
-                    const Vec3d o = fl(target - dir * (dist * rng.uniform(0.5, 2)));
-                    const Vec3d d = fl(dir * std::exp2(rng.uniform(-4, 4)));
+                    const Vec3d o = test::fl(target - dir * (dist * rng.uniform(0.5, 2)));
+                    const Vec3d d = test::fl(dir * std::exp2(rng.uniform(-4, 4)));
                     refs[i] = {o, d};
                     test::set_ray(rp, i, o, d);
                 }
