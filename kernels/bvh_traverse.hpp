@@ -142,15 +142,27 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
         if constexpr (W == 1) return stack_t[top][0];
         else return T::load_aligned(stack_t[top]);
     };
-    push(0, 0, T(-inf));
-    while (top > 0) {
-        --top;
-        const std::int32_t ref = stack_ref[top];
-        const Mask<T> on = group && active && pop_t() <= grow(tbest);
-        if (!lane::any(on)) continue;
+    // The entry being visited: popped, or the nearest child of the node just
+    // tested, taken straight on (the pop would find the same lanes: nothing
+    // lowers tbest between the test and the visit).
+    std::int32_t ref = 0;
+    std::uint32_t run = 0;
+    T entry_t(-inf);
+    Mask<T> on = group && active && entry_t <= grow(tbest);
+    if (!lane::any(on)) return;
+    bool taken = true;
+    for (;;) {
+        if (!taken) {
+            if (top == 0) return;
+            --top;
+            ref = stack_ref[top], run = stack_run[top], entry_t = pop_t();
+            on = group && active && entry_t <= grow(tbest);
+            if (!lane::any(on)) continue;
+        }
+        taken = false;
         if (ref < 0) {  // a leaf: one call for all its lanes, or one per lane where few reach it
             Leaf scratch;
-            const Leaf& l = leaf_of(bvh.leaves, ref, stack_run[top], scratch);
+            const Leaf& l = leaf_of(bvh.leaves, ref, run, scratch);
             if constexpr (takes_lanes<T, LeafFn>) {
                 if (lane::count(on) <= opt.leaf_lanes_alone) {
                     for (unsigned bits = lane::bits(on); bits != 0; bits &= bits - 1) {
@@ -166,11 +178,10 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
         }
         if constexpr (kFloat && W > 1) {
             if (lane::count(on) <= single_lanes) {
-                const T t = pop_t();
-                const unsigned bits = lane::bits(on);
-                for (int i = 0; i < W; ++i) {
-                    if (!lane_on(bits, i)) continue;
-                    walk_single<Closest>(bvh, ref, float(lane_value(t, i)), single_ray(r, i), i, active, tbest, leaf);
+                for (unsigned bits = lane::bits(on); bits != 0; bits &= bits - 1) {
+                    const int i = __builtin_ctz(bits);
+                    walk_single<Closest>(bvh, ref, float(lane_value(entry_t, i)), single_ray(r, i), i, active, tbest,
+                                         leaf);
                     if (!Closest && !lane::any(active)) return;
                 }
                 continue;
@@ -181,6 +192,7 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
         std::int32_t hit_ref[kWidth];
         std::uint32_t hit_run[kWidth];
         T hit_t[kWidth];
+        Mask<T> hit_on[kWidth];
         float key[kWidth];
         int hits = 0;
         for (int c = 0; c < kWidth && node.child[c] != kEmptySlot; ++c) {
@@ -199,21 +211,32 @@ void walk_packet(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& group, con
             hit_ref[hits] = node.child[c];
             hit_run[hits] = node.run[c];
             hit_t[hits] = lane::select(in, enter, T(nan));
+            hit_on[hits] = in;
             if (Closest && opt.order_packet_children)
                 key[hits] = float(lane::lane0(lane::hmin(lane::select(in, enter, T(inf)))));
             else
-                key[hits] = float(c);  // the first slot pops first
+                key[hits] = float(c);  // the first slot first
             ++hits;
         }
-        // Push by key, descending (insertion sort): the nearest (or the
-        // first slot) pops first.
-        int order[kWidth];
-        for (int i = 0; i < hits; ++i) {
-            int j = i;
-            for (; j > 0 && key[order[j - 1]] < key[i]; --j) order[j] = order[j - 1];
-            order[j] = i;
+        if (hits == 0) continue;
+        // The nearest (or the first slot) next, the rest pushed by key,
+        // descending (insertion sort; the later slot first on a tie).
+        int next = 0;
+        if (hits == 2) {
+            next = key[0] < key[1] ? 0 : 1;
+            push(hit_ref[1 - next], hit_run[1 - next], hit_t[1 - next]);
+        } else if (hits > 2) {
+            int order[kWidth];
+            for (int i = 0; i < hits; ++i) {
+                int j = i;
+                for (; j > 0 && key[order[j - 1]] < key[i]; --j) order[j] = order[j - 1];
+                order[j] = i;
+            }
+            for (int i = 0; i + 1 < hits; ++i) push(hit_ref[order[i]], hit_run[order[i]], hit_t[order[i]]);
+            next = order[hits - 1];
         }
-        for (int i = 0; i < hits; ++i) push(hit_ref[order[i]], hit_run[order[i]], hit_t[order[i]]);
+        ref = hit_ref[next], run = hit_run[next], entry_t = hit_t[next], on = hit_on[next];
+        taken = true;
     }
 }
 

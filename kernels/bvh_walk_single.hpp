@@ -36,6 +36,15 @@ inline void visit_lane(LeafFn& leaf, const Leaf& l, int i, const Mask<T>& alone)
         leaf(l, alone);
     }
 }
+// The same, out of line: for a lane of a packet, the single-ray walk's node
+// loop then keeps fewer values live across an inlined leaf test (one lane
+// of float keeps it inline: there the call cost more than it saved).
+template <class T, class LeafFn>
+[[gnu::noinline]] void visit_leaf_out_of_line(LeafFn& leaf, const AlignedVector<Leaf>& leaves, std::int32_t ref,
+                                              std::uint32_t run, int i, const Mask<T>& alone) {
+    Leaf scratch;
+    visit_lane<T>(leaf, leaf_of(leaves, ref, run, scratch), i, alone);
+}
 template <class T, class LeafFn>
 inline constexpr bool takes_lanes = lane::width<T> > 1 && std::is_invocable_v<LeafFn&, const Leaf&, LaneOf>;
 
@@ -102,8 +111,12 @@ void walk_single(const Bvh8& bvh, std::int32_t start, float start_t, const Singl
                 continue;
             }
         } else {
-            Leaf scratch;
-            visit_lane<T>(leaf, leaf_of(bvh.leaves, ref, run, scratch), i, alone);
+            if constexpr (lane::width<T> > 1) {
+                visit_leaf_out_of_line<T>(leaf, bvh.leaves, ref, run, i, alone);
+            } else {
+                Leaf scratch;
+                visit_lane<T>(leaf, leaf_of(bvh.leaves, ref, run, scratch), i, alone);
+            }
             if constexpr (Closest) limit = float(lane_value(tbest, i));
             else if (!lane_on(lane::bits(active), i)) return;
         }
