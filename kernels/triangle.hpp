@@ -43,6 +43,10 @@ OCTRAY_HOT T intersect_triangle(const Ray<T, P>& r, const Vec3<T>& a, const Vec3
     triangle_edges(r, v0, b - r.o, c - r.o, lo, hi);
     const Mask<T> huge = lane::not_(lane::isfinite(lo + hi));
     if (lane::any(huge)) {
+        // A compiler barrier: without it GCC keeps this branch's inputs
+        // spilled to the stack across every test, for a branch almost never
+        // taken.
+        asm volatile("" ::: "memory");
         const T k = lane::select(huge, T(0x1p-72f), T(1));
         const Vec3<T> ok = r.o * k;
         triangle_edges(r, a * k - ok, b * k - ok, c * k - ok, lo, hi);
