@@ -10,7 +10,7 @@
 //   ao/shade/{pixels,samples}/simd, ao/shade/pixels/scalar
 //                             the shade stage alone on the image's camera hits,
 //                             per packet layout of the occlusion rays
-//                             (kernels/occlusion.hpp), compiled here for AVX2.
+//                             (kernels/shading/occlusion.hpp), compiled here for AVX2.
 //   ao/occluded/VARIANT       the same occlusion rays through an any-hit query:
 //                             those of aobench's own 256x256 image, generated
 //                             once as the kernel makes them (8 pixels' k-th
@@ -36,7 +36,7 @@
 // stops with SkipWithError. `--crosscheck` prints the table and exits 1 on a
 // failure (a CTest test).
 #define OCTRAY_ISA bench_ao
-#include "packet_kernels.hpp"
+#include "kernels/packet_kernels.hpp"
 
 #include "bench_common.hpp"
 #include "scene_loader.hpp"

@@ -1,5 +1,5 @@
-// bench/bench_bvh.cpp — the 8-wide BVH (kernels/bvh.hpp): build time and
-// size, and closest-hit walks (kernels/bvh_traverse.hpp) for choosing the
+// bench/bench_bvh.cpp — the 8-wide BVH (kernels/bvh/node.hpp): build time and
+// size, and closest-hit walks (kernels/bvh/traverse.hpp) for choosing the
 // builder's leaf size and costs and the walk's packet options.
 //
 //   bvh_build/<input>/<n>/threads:<t>  build_bvh8 on n random boxes or on the
@@ -13,8 +13,8 @@
 //
 // Compiled with -mavx2 -mfma (8-float node batches and packets), like
 // octray_bench_variants: it runs only on such CPUs.
-#include "bvh.hpp"
-#include "bvh_traverse.hpp"
+#include "kernels/bvh/node.hpp"
+#include "kernels/bvh/traverse.hpp"
 
 #include <octray/constants.hpp>
 

@@ -1,7 +1,7 @@
 // bench/bench_common.cpp — scenes, ray sets, FLOP accounting, counters, main.
 #include "bench_common.hpp"
 
-#include "scene_data.hpp"
+#include "kernels/scene_data.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -16,7 +16,7 @@ namespace octray::bench {
 
 // =============================================================================
 // FLOPs per ray, counted by hand from the kernels' source (kernels/
-// packet_kernels.hpp lists it): the robust sphere test with its early-out and
+// kernels/packet_kernels.hpp lists it): the robust sphere test with its early-out and
 // its normal from the sphere's frame, the watertight triangle. Occlusion rays
 // are not counted: the aobench benchmarks report no FLOPs.
 // A kernel change that adds or removes arithmetic must update the
@@ -151,7 +151,7 @@ double shade_flops_per_ray(const PacketScene& scene) {
 // ---- tone map (tonemap_lanes) ---------------------------------------------------
 // max_to_one: scale = rcp(max) 1 div; c * scale x3 3                      =  4
 // clamp_to_color, saturate: compares, selects and min only                =  0
-// gamma: lane::pow_positive (lane_pow.hpp) per channel: subnormal scale 1,
+// gamma: lane::pow_positive (kernels/lanes/lane_pow.hpp) per channel: subnormal scale 1,
 //   exponent 1 + 2 (halving m, e + 1), s = (m-1)/(m+1) 3, s^2 s^4 2, log
 //   polynomial 4 fma 8, s * poly 1, y e and its error (mul, sub, fma) 4,
 //   rest fma 2, ye + rest 1, two round_small 4, f = (ye - n) + rest 2,
@@ -159,7 +159,7 @@ double shade_flops_per_ray(const PacketScene& scene) {
 //                                                          per channel = 51, x3 = 153
 double tonemap_flops_per_ray(ToneMap mode, bool gamma) { return (mode == ToneMap::max_to_one ? 4 : 0) + (gamma ? 153 : 0); }
 
-// ---- camera (kernels/camera.hpp, in double) -------------------------------------
+// ---- camera (kernels/trace/camera.hpp, in double) -------------------------------------
 // sx = column * step + first: 1 fma                                       =  2
 // pinhole: d = u*sx + (v*sy - w): 3 fma 6; fdot(d,d) 5; 1/sqrt 2; d * k 3;
 //          the float + residual split 3                                    = 21

@@ -21,7 +21,7 @@
 #include <octray/packet_scene.hpp>
 #include <octray/scene.hpp>
 
-#include "aligned.hpp"
+#include "kernels/lanes/aligned.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -26,7 +26,7 @@
 // ns_per_ray, flops_per_ray, GFLOPS and frac_peak (bench_common.hpp).
 #include "bench_common.hpp"
 
-#include "scene_data.hpp"
+#include "kernels/scene_data.hpp"
 
 #include <scene_loader.hpp>
 

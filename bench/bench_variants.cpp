@@ -14,7 +14,7 @@
 // with -mavx2 -mfma, so the library's kernels are pinned to its AVX2 unit
 // (Isa::avx2) too: the comparison is of features, not of instruction sets.
 #define OCTRAY_ISA bench_hand
-#include "packet_kernels.hpp"
+#include "kernels/packet_kernels.hpp"
 
 #include "bench_common.hpp"
 #include "scene_loader.hpp"

@@ -1,6 +1,6 @@
 // bench/embree_spheres.hpp — octray rays as Embree 3 rays (to_embree), and
 // spheres as Embree 3 user geometry, with octray's
-// stable quadratic (kernels/sphere.hpp): the callbacks bench_embree.cpp and
+// stable quadratic (kernels/geometry/sphere.hpp): the callbacks bench_embree.cpp and
 // the scale benchmark (bench_scale.cpp) and aobench (bench_aobench.cpp) give
 // Embree, closest hit and any hit.
 // Eight lanes with AVX2 + FMA when Embree hands the callback a packet of 8

@@ -4,7 +4,7 @@
 #include "embree_spheres.hpp"
 #include "mesh_generators.hpp"
 #include "model_loader.hpp"
-#include "scene_data.hpp"
+#include "kernels/scene_data.hpp"
 
 #include <octray/constants.hpp>
 

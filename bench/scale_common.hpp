@@ -1,5 +1,5 @@
 // bench/scale_common.hpp — the scenes, rays and Embree scenes of the cost
-// curve (docs/performance.md): bench_scale.cpp times them, tests/test_scale_agreement.cpp
+// curve (docs/performance.md): bench_scale.cpp times them, bench/test_scale_agreement.cpp
 // checks that octray and Embree give the same answers on them.
 //
 // Families (every one without a floor plane: Embree has no infinite plane):
@@ -25,7 +25,7 @@
 #include <octray/packet_scene.hpp>
 #include <octray/scene.hpp>
 
-#include "aligned.hpp"
+#include "kernels/lanes/aligned.hpp"
 
 #include <embree3/rtcore.h>
 

@@ -1,6 +1,6 @@
 // cmake/isa_probe.cpp — prints the best ISA of octray's unit list that the
 // configuring machine runs (OCTRAY_ISAS=host in CMakeLists.txt).
-#include "cpu_support.hpp"
+#include "dispatch/cpu_support.hpp"
 
 #include <cstdio>
 

@@ -4,7 +4,7 @@
 // shade and tonemap of every kernel this CPU runs (every ISA unit, every
 // precision mode; exact specialized to the scene's features, as
 // select_kernel picks it, the other modes general). Checked
-// by tests/kernel_checks.hpp: no NaN in any output, the masked-lane count and
+// by tests/support/kernel_checks.hpp: no NaN in any output, the masked-lane count and
 // flags exactly those computed independently, hits in range, misses and
 // masked lanes shaded as background, display colour in [0, 1].
 //

@@ -6,7 +6,7 @@
 // a hang. What collect_model makes of a RawModel must keep MeshData's invariants (indices
 // in range, three per triangle, finite vertices, each used, no zero-area triangle, within
 // the triangle limit), pass validate() as a scene's mesh, and trace through every stage of
-// the SIMD and scalar kernels within the numerical policy (tests/kernel_checks.hpp).
+// the SIMD and scalar kernels within the numerical policy (tests/support/kernel_checks.hpp).
 #pragma once
 
 #include "kernel_checks.hpp"

@@ -7,7 +7,7 @@
 // compile(), and the kernels must trace it within the numerical policy: a few
 // camera tiles (first, middle and last row) go through intersect, occluded,
 // shade and tonemap of the SIMD and scalar paths, checked by
-// tests/kernel_checks.hpp.
+// tests/support/kernel_checks.hpp.
 #include "kernel_checks.hpp"
 #include "scene_loader.hpp"
 

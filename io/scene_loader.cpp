@@ -2,7 +2,7 @@
 //
 // The JSON's shape (types, required and unknown fields, names of types,
 // materials and enums) is checked here; value ranges, finiteness and
-// degenerate geometry are octray::validate()'s (kernels/validate.cpp), the one
+// degenerate geometry are octray::validate()'s (compile/validate.cpp), the one
 // set of rules a scene built in code meets too. Its message is reported at the
 // JSON path of the offending value.
 #include "scene_loader.hpp"

@@ -6,25 +6,25 @@
 // features (features.hpp) compiled in: code for a feature outside F is
 // removed at compile time, not skipped at run time. One header per concept:
 //
-//   packet_io.hpp   lanes <-> packets, per-lane reads of the scene arrays
-//   ray.hpp         loading and masking rays, per-ray setup
-//   sphere.hpp, planar.hpp, box.hpp, triangle.hpp   the primitive tests
-//   culling.hpp     which bounded primitives a packet may hit: the BVH8 walk (bvh_traverse.hpp)
-//   bvh_traverse.hpp  the BVH8 walks: options, the packet walk, traverse_closest/traverse_any
-//   bvh_ray.hpp     a ray as the BVH walks see it, the node child tests for one ray
-//   bvh_walk_single.hpp, bvh_walk_hull.hpp   the single-ray walk, the hull walk
-//   intersect.hpp   closest hit, normals, any hit (shadow rays)
-//   shade.hpp       Lambertian shading
-//   shadow_ray.hpp  the offset ray from a shaded point (shadow and occlusion rays)
-//   sampling.hpp, occlusion.hpp   ambient occlusion: the sample generator, the visible fraction
-//   tonemap.hpp     tone mapping and gamma
-//   camera.hpp      camera rays
+//   kernels/trace/packet_io.hpp   lanes <-> packets, per-lane reads of the scene arrays
+//   kernels/trace/ray.hpp         loading and masking rays, per-ray setup
+//   kernels/geometry/sphere.hpp, kernels/geometry/planar.hpp, kernels/geometry/box.hpp, kernels/geometry/triangle.hpp   the primitive tests
+//   kernels/bvh/culling.hpp     which bounded primitives a packet may hit: the BVH8 walk (kernels/bvh/traverse.hpp)
+//   kernels/bvh/traverse.hpp  the BVH8 walks: options, the packet walk, traverse_closest/traverse_any
+//   kernels/bvh/walk_ray.hpp     a ray as the BVH walks see it, the node child tests for one ray
+//   kernels/bvh/walk_single.hpp, kernels/bvh/walk_hull.hpp   the single-ray walk, the hull walk
+//   kernels/trace/intersect.hpp   closest hit, normals, any hit (shadow rays)
+//   kernels/shading/shade.hpp       Lambertian shading
+//   kernels/shading/shadow_ray.hpp  the offset ray from a shaded point (shadow and occlusion rays)
+//   kernels/shading/sampling.hpp, kernels/shading/occlusion.hpp   ambient occlusion: the sample generator, the visible fraction
+//   kernels/shading/tonemap.hpp     tone mapping and gamma
+//   kernels/trace/camera.hpp      camera rays
 //
-// Each generated unit (isa_unit.cpp.in) defines OCTRAY_ISA and includes this.
+// Each generated unit (dispatch/isa_unit.cpp.in) defines OCTRAY_ISA and includes this.
 #pragma once
 
-#include "camera.hpp"
-#include "intersect.hpp"
-#include "occlusion.hpp"
-#include "shade.hpp"
-#include "tonemap.hpp"
+#include "kernels/trace/camera.hpp"
+#include "kernels/trace/intersect.hpp"
+#include "kernels/shading/occlusion.hpp"
+#include "kernels/shading/shade.hpp"
+#include "kernels/shading/tonemap.hpp"

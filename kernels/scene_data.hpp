@@ -12,8 +12,8 @@
 // which need not be the lower object index the reference keeps.
 #pragma once
 
-#include "aligned.hpp"
-#include "bvh.hpp"
+#include "kernels/lanes/aligned.hpp"
+#include "kernels/bvh/node.hpp"
 
 #include <octray/packet_scene.hpp>
 

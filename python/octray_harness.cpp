@@ -1,7 +1,7 @@
 // python/octray_harness.cpp — Scene.info(), Scene.verify(), octray.errtime()
 // and octray.stability(): the numbers of `octray info`, `verify`, `errtime` and
 // `stability` (tools/cmd_*.cpp) as dicts, from the same harnesses
-// (octray_tools), without the tables' text.
+// (octray_harness), without the tables' text.
 #include "octray_module.hpp"
 
 #include "errtime.hpp"

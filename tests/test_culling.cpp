@@ -1,11 +1,11 @@
-// Culling (culling.hpp): what the scene's BVH lets a walk skip changes no
+// Culling (kernels/bvh/culling.hpp): what the scene's BVH lets a walk skip changes no
 // result, bit for bit.
 #include <doctest/doctest.h>
 
 #include "support.hpp"
 
-#include "isa_kernels.hpp"
-#include "scene_data.hpp"
+#include "dispatch/isa_kernels.hpp"
+#include "kernels/scene_data.hpp"
 #include "scene_loader.hpp"
 #include "verify.hpp"
 

@@ -20,7 +20,7 @@ using namespace octray::test;
 namespace {
 // The feature bits of the variant dispatch runs for a scene's: its own,
 // but with occlusion the ambient-only variant for spheres and planes or the
-// general shade (kernels/isa_instantiate.hpp).
+// general shade (dispatch/isa_instantiate.hpp).
 unsigned compiled_bits(unsigned bits) {
     const unsigned lights = bits & ~kAllPrimitives;
     const bool own = lights == (kAmbient | kOcclusion) && (bits & kAllPrimitives & ~(kSphere | kPlane)) == 0;

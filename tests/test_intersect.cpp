@@ -4,7 +4,7 @@
 
 #include "support.hpp"
 
-#include "scene_data.hpp"
+#include "kernels/scene_data.hpp"
 #include "scene_loader.hpp"
 #include "verify.hpp"
 

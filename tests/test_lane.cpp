@@ -1,10 +1,7 @@
-// lane.hpp's batch functions at the default target and, where this CPU runs
-// it, at AVX2 (test_lane_avx2.cpp), where lane.hpp takes intrinsic paths.
+// kernels/lanes/lane.hpp's batch functions at the default target; the same
+// checks at AVX2, where lane.hpp takes intrinsic paths, are test_lane_avx2.cpp's
+// (a binary of their own: octray_tests_avx2).
 #include "lane_checks.hpp"
-
-namespace octray::test {
-bool avx2_lane_checks();  // test_lane_avx2.cpp: false where the CPU lacks AVX2
-}
 
 using namespace octray;
 
@@ -33,8 +30,4 @@ TEST_CASE("lane::keep gives select(m, x, 0)'s bits, on SIMD and scalar lanes") {
     CHECK(!std::signbit(lane::keep(false, -1.0f)));
     test::check_keep<xsimd::batch<float>>();
     test::check_keep<xsimd::batch<double>>();
-}
-
-TEST_CASE("the same lane checks at AVX2 (lane.hpp's intrinsic paths)") {
-    if (!test::avx2_lane_checks()) MESSAGE("this CPU has no AVX2: skipped");
 }

@@ -1,6 +1,6 @@
 // tests/test_model_ply.cpp — read_ply (io/ply_reader.cpp) on well-formed files in
 // every encoding, and save_ply (io/ply_writer.cpp); test_model_ply_hostile.cpp has the
-// files read_ply must refuse. The files come from tests/ply_files.hpp.
+// files read_ply must refuse. The files come from tests/support/ply_files.hpp.
 #include "ply_files.hpp"
 #include "model_loader.hpp"
 

@@ -1,7 +1,7 @@
 // tests/test_model_ply_hostile.cpp — the PLY files read_ply must refuse, each with a
 // one-line ModelError naming where: counts the file cannot hold (refused before anything
 // is allocated), the triangle limit, data cut short, indices out of range, broken headers
-// and numbers. The files come from tests/ply_files.hpp.
+// and numbers. The files come from tests/support/ply_files.hpp.
 #include "ply_files.hpp"
 
 #include <doctest/doctest.h>

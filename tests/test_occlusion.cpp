@@ -6,7 +6,7 @@
 
 #include "support.hpp"
 
-#include "sampling.hpp"
+#include "kernels/shading/sampling.hpp"
 #include "scene_loader.hpp"
 #include "verify.hpp"
 

@@ -8,7 +8,7 @@
 
 #include "precision_units.hpp"
 #include "errtime.hpp"
-#include "scene_data.hpp"
+#include "kernels/scene_data.hpp"
 #include "scene_loader.hpp"
 #include "verify.hpp"
 
@@ -125,7 +125,7 @@ ReferenceHits reference_hits(const Scene& scene, const ReferenceTrace& traced) {
 //    |n.d| = 0.006, R - |perp| = 1e-5 < band t = 2e-5.) Flat primitives keep
 //    one normal up to their border: a flip there is a primitive mismatch.
 //  - lanes whose light is blocked by something lower above the surface than
-//    twice the kernels' shadow-ray offset for the mode (shade.hpp,
+//    twice the kernels' shadow-ray offset for the mode (kernels/shading/shade.hpp,
 //    shadow_ray: max(1e-4 scale, (scale + reach) shadow_offset)); the
 //    kernel's lifted ray may start past it (contact shadows: a leg on the
 //    floor, the estimate modes' larger offsets), a legal answer the
@@ -432,7 +432,7 @@ TEST_CASE("end to end: every scene renders within each mode's stated bound on ev
                          << worst << " of its bound (sphere lanes " << worst_sphere << "), mismatched " << a.mismatched
                          << " of " << a.lanes << ", edge lanes " << edges << ", max L/S with them " << all.max_scaled);
             // Every cell: the estimate modes' shadow rays start from an IEEE
-            // hit point (shade.hpp, ieee_hit_point) with exact's offset, so
+            // hit point (kernels/shading/shade.hpp, ieee_hit_point) with exact's offset, so
             // they decide visibility as exact does (scenes/models.json used
             // to reach 0.49 S in approx with the offset scaled to its error).
             CHECK(worst <= 1);

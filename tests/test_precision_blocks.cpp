@@ -7,7 +7,7 @@
 #include "precision_blocks.hpp"
 #include "precision_units.hpp"
 
-#include "lane_pow.hpp"
+#include "kernels/lanes/lane_pow.hpp"
 #include <octray/precision.hpp>
 #include <octray/vec3.hpp>
 

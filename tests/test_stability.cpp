@@ -1,4 +1,4 @@
-// The stability catalogue (tools/stability_cases.hpp): every case meets its
+// The stability catalogue (harness/stability_cases.hpp): every case meets its
 // bound on every path × precision mode. One SUBCASE per case; the same list
 // `octray stability` prints.
 #include <doctest/doctest.h>

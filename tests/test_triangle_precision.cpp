@@ -15,7 +15,7 @@
 using namespace octray;
 using namespace octray::precision_test;
 
-// Triangle hits, the watertight test's t (kernels/triangle.hpp): within
+// Triangle hits, the watertight test's t (kernels/geometry/triangle.hpp): within
 //     |t - t_ref| <= div_bound(mode) |t| + 8 u (|t| + S / |d|) / cos
 // (S: the triangle's diameter, cos = |n.d| / |d|) on every unit and mode,
 // for triangles 1 to 2^14 units out, 2^-12 to 1 of their distance across,

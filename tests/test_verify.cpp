@@ -1,6 +1,6 @@
 // The paths agree on scenes built in code, where nothing has normalized the
 // directions (scene.hpp: every path uses unit_direction()), measured with
-// `octray verify`'s own comparison (tools/verify.hpp).
+// `octray verify`'s own comparison (harness/verify.hpp).
 #include "verify.hpp"
 
 #include <octray/reference.hpp>

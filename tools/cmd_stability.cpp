@@ -1,5 +1,5 @@
 // tools/cmd_stability.cpp — `octray stability [--wide] [--csv F]`: the
-// catalogue of stiff and extreme cases (tools/stability_cases.hpp) on every
+// catalogue of stiff and extreme cases (harness/stability_cases.hpp) on every
 // path × precision mode plus the textbook formulation; exit 1 when a kernel
 // fails a case. The default table fits 100 columns (each case's worst cell);
 // --wide prints one column per path × mode, --csv writes every cell.

@@ -26,7 +26,7 @@
 // < 2^-21, 3.1u (fast14) < 2^-22.
 //
 // Not a mode's choice: the tone map's gamma step c^(1/gamma) is
-// lane_pow.hpp's x^y in every float mode (within 2 + 1.25|y| ulp, measured
+// kernels/lanes/lane_pow.hpp's x^y in every float mode (within 2 + 1.25|y| ulp, measured
 // 1.3 ulp at gamma 2.2), libm's / xsimd's double pow in f64.
 //
 // Composite building blocks (normalize(v) = v * rsqrt(v.v); n.l = (n.v) * rsqrt(v.v)
@@ -34,7 +34,7 @@
 // <= rsqrt bound + 2^-21 (the FMA dot product and the final product add < 6u).
 //
 // Sphere normals. The kernels form a sphere hit's p - c in the
-// sphere's own frame (kernels/sphere.hpp, sphere_offset), not from
+// sphere's own frame (kernels/geometry/sphere.hpp, sphere_offset), not from
 // p = o + t d, whose float alone is off by u t / 2 (and t by a few u t): for
 // the float inputs o, d, c, r taken as exact,
 //     |n - n_exact| <= sphere_normal_bound(cos) = u (16 + 4 / cos),
@@ -63,7 +63,7 @@
 // of a mode is its building-block error amplified by the geometry: a point
 // light's direction moves by (t/r) dt/t where the hit point is off by a
 // relative dt/t. With S the pixel's radiance with every light at n.l = 1
-// (tools/verify.hpp) and
+// (harness/verify.hpp) and
 //     kappa = 1 + max over the image's hits of t/r (hit distance over the
 //             distance of a point light),
 // the stated bound is, lane by lane,
@@ -76,7 +76,7 @@
 // what the compiled scene leaves of the centre and radius. A normal off by dn
 // changes every n.l by at most dn (so L by dn S); where the sphere is
 // smaller than the hit distance (R < t), the kernels shade at c + R n
-// (kernels/shade.hpp), which it moves by R dn, and a point light's direction
+// (kernels/shading/shade.hpp), which it moves by R dn, and a point light's direction
 // by 2 R dn / r (r_min: the nearest point light); elsewhere at o + t d, which
 // kappa covers. e is the inputs' part, and it is where t/R would come back
 // for a general camera: a direction rounded to float is off by up to u/2 per
@@ -188,7 +188,7 @@ inline constexpr double ndotl_bound(Precision p) { return normalize_bound(p); }
 // c + R n carries no t-sized error: there relative to |p| alone.
 // (The kernels use the larger of this and 1e-4 |p|.)
 // The hit point is IEEE in every mode: the estimate modes recompute it with an
-// IEEE division before shading (kernels/shade.hpp, ieee_hit_point), so their
+// IEEE division before shading (kernels/shading/shade.hpp, ieee_hit_point), so their
 // point carries exact's error and their shadow rays take exact's offset. An
 // offset scaled to the estimate's own error (8 * 1.5 * 2^-12 (|p| + t) for
 // approx) lifted the ray past nearby geometry (a crease, a thin wall) and

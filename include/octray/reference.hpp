@@ -24,7 +24,7 @@ struct Ray {
 Ray camera_ray(const Camera& camera, int i, int j);
 
 // Nearest intersection parameter t in the open interval (tmin, tmax), if any.
-// The boundary rule of each primitive is documented in kernels/reference.cpp.
+// The boundary rule of each primitive is documented in reference/reference.cpp.
 std::optional<double> intersect(const Shape& shape, const Ray& ray, double tmin, double tmax);
 
 // Geometric (not face-forwarded) unit normal of `shape` at surface point p.
@@ -69,7 +69,7 @@ Vec3d shade(const Scene& scene, const Ray& ray, const Hit& hit, std::uint32_t pi
 
 // Ambient occlusion (docs/shading-model.md): sample k of `pixel` at a hit, the
 // cosine-weighted direction about the hit's normal from the uniforms of
-// kernels/sampling.hpp (Malley's method, polar; the frame of Duff et al. 2017),
+// kernels/shading/sampling.hpp (Malley's method, polar; the frame of Duff et al. 2017),
 // from just off the surface as shadow rays leave it. Its interval is (0, distance).
 Vec3d occlusion_direction(const Vec3d& normal, std::uint32_t pixel, int k);
 Ray occlusion_ray(const Hit& hit, std::uint32_t pixel, int k);
