@@ -5,7 +5,7 @@ import datetime
 import os
 import time
 
-from bench_report.keys import DEFINITIONS, TARGETS
+from bench_report.keys import DEFINITIONS, SUITE_KEYS, meets, target_text
 from bench_report.report import aobench_section, isa_section, peer_section, stage_section
 from bench_report.summary import divider_ratio
 from bench_report.tables import err, fnum, table
@@ -31,11 +31,13 @@ def write_bench_md(a, build, pin, rev, context, rows, peak, summary, rep, raw, c
 
     md.append("## Targets\n\n")
     trows = []
-    for key, thr in TARGETS.items():
-        v = summary[key]
-        shown = "—" if v is None else (f"{100 * v:.1f}%" if key == "intersect_fraction_of_peak" else f"{fnum(v)}×")
-        need = f"≥ {100 * thr:.0f}%" if key == "intersect_fraction_of_peak" else f"≥ {thr}×"
-        trows.append([f"`{key}`", shown, need, "—" if v is None else ("met" if v >= thr else "**missed**"), DEFINITIONS[key]])
+    for key, target in SUITE_KEYS.items():
+        v = summary.get(key)
+        percent = key == "intersect_fraction_of_peak"
+        shown = "—" if v is None else (f"{100 * v:.1f}%" if percent else f"{fnum(v)}×")
+        need = target_text(target, (lambda x: f"{100 * x:.0f}%") if percent else (lambda x: f"{x}×"))
+        ok = meets(v, target)
+        trows.append([f"`{key}`", shown, need, "—" if ok is None else ("met" if ok else "**missed**"), DEFINITIONS[key]])
     md.append(table(["summary key", "measured", "target", "verdict", "definition"], trows, left=5))
 
     md.append("\n## Peak: sustained FP32 FMA throughput, 8 lanes\n\n")

@@ -8,7 +8,8 @@ import subprocess
 import sys
 import time
 
-from bench_report.keys import SCALE_DEFINITIONS, SCALE_TARGETS
+from bench_report.keys import (ANY_HIT_SCENE, DEFINITIONS, MESH_SCENES, SCALE_KEYS, SPHERE_SCENES, target_json,
+                               target_text)
 from bench_report.runs import TOOLS_DIR, load_medians, run
 from bench_report.tables import fnum, rate, ratio, table
 
@@ -66,6 +67,37 @@ def build_rows(rows):
     return out
 
 
+def extreme(f, key, sel):
+    vals = [r[key] for r in sel if r.get(key) is not None]
+    return f(vals) if vals else None
+
+
+def scale_keys(curve, builds):
+    """The summary keys of keys.SCALE_KEYS, from the cost-curve and build rows (None where a row is missing)."""
+    closest = [r for r in curve if r["query"] == "closest"]
+
+    def rows(rays, scenes=None):
+        return [r for r in closest if r["rays"] == rays and (scenes is None or r["scene"].startswith(scenes))]
+
+    def pass_time(query):  # octray SIMD's time over the row's rays, as 1 / (rays/s)
+        r = next((r for r in curve if (r["scene"], r["rays"], r["query"]) == (ANY_HIT_SCENE, "camera", query)), None)
+        return 1 / r["octray_simd_mrays"] if r and r.get("octray_simd_mrays") else None
+
+    keys = {
+        "scale_camera_octray_over_embree_min": extreme(min, "octray_over_embree", rows("camera")),
+        "scale_incoherent_octray_over_embree_min": extreme(min, "octray_over_embree", rows("incoherent")),
+        "scale_camera_spheres_min": extreme(min, "octray_over_embree", rows("camera", SPHERE_SCENES)),
+        "scale_camera_mesh_min": extreme(min, "octray_over_embree", rows("camera", MESH_SCENES)),
+        "scale_incoherent_mesh_min": extreme(min, "octray_over_embree", rows("incoherent", MESH_SCENES)),
+        "closest_over_any_hit_time": ratio(pass_time("closest"), pass_time("any")),
+        "scale_simd_over_scalar_camera_min": extreme(min, "simd_over_scalar", rows("camera")),
+        "scale_build_time_over_embree_max": extreme(max, "build_time_over_embree", builds),
+        "scale_bytes_per_primitive_over_embree_max": extreme(max, "bytes_per_primitive_over_embree", builds),
+    }
+    assert list(keys) == list(SCALE_KEYS), "scale.py computes keys.SCALE_KEYS, in that order"
+    return keys
+
+
 def scale_main(a):
     build = os.environ.get("OCTRAY_BUILD_DIR", "build")
     binary = os.path.join(build, "bench", "octray_bench_scale")
@@ -99,30 +131,17 @@ def scale_main(a):
             rows.update(r)
     curve, builds = scale_rows(rows), build_rows(rows)
 
-    def extreme(f, key, sel):
-        vals = [r[key] for r in sel if r.get(key) is not None]
-        return f(vals) if vals else None
-
     summary_path = os.path.join(a.out, "summary.json")
     summary = {}
     if os.path.exists(summary_path):
         with open(summary_path) as f:
             summary = json.load(f)
-    closest = [r for r in curve if r["query"] == "closest"]
-    new = {
-        "scale_camera_octray_over_embree_min": extreme(min, "octray_over_embree", [r for r in closest if r["rays"] == "camera"]),
-        "scale_incoherent_octray_over_embree_min": extreme(min, "octray_over_embree",
-                                                           [r for r in closest if r["rays"] == "incoherent"]),
-        "scale_build_time_over_embree_max": extreme(max, "build_time_over_embree", builds),
-        "scale_bytes_per_primitive_over_embree_max": extreme(max, "bytes_per_primitive_over_embree", builds),
-        "scale_simd_over_scalar_camera_min": extreme(min, "simd_over_scalar",
-                                                     [r for r in closest if r["rays"] == "camera"]),
-    }
+    new = scale_keys(curve, builds)
     summary.update(new)
     summary["scale"] = curve
     summary["scale_build"] = builds
-    summary.setdefault("targets", {}).update(SCALE_TARGETS)
-    summary.setdefault("definitions", {}).update(SCALE_DEFINITIONS)
+    summary["targets"] = target_json()  # one set for the file, whichever run wrote it last
+    summary["definitions"] = dict(DEFINITIONS)
     summary["scale_context"] = {k: context.get(k) for k in ("date", "host_name", "embree_version", "scale_model",
                                                             "octray_simd_kernel", "mhz_per_cpu") if k in context}
     summary["scale_context"]["revision"] = rev
@@ -155,7 +174,7 @@ def scale_main(a):
                       fnum(r["embree_high_bytes_per_primitive"]), fnum(r["embree_medium_bytes_per_primitive"]),
                       f"{fnum(r['bytes_per_primitive_over_embree'])}×"] for r in builds], left=2))
     md.append("\n## Summary\n\n")
-    md.append(table(["key", "value", "target"], [[f"`{k}`", fnum(v), f"{'≥' if 'min' in k else '≤'} {SCALE_TARGETS[k]}"]
+    md.append(table(["key", "value", "target"], [[f"`{k}`", fnum(v), target_text(SCALE_KEYS[k])]
                                                  for k, v in new.items()]))
     md.append(f"\nTotal run time: {time.time() - t_start:.0f} s.\n")
     with open(os.path.join(a.out, "scale.md"), "w") as f:

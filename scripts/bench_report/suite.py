@@ -11,7 +11,7 @@ import time
 
 from bench_report.bench_md import write_bench_md
 from bench_report.chart import plot_chart
-from bench_report.keys import PEAK, TARGETS
+from bench_report.keys import PEAK, SCALE_KEYS, SUITE_KEYS
 from bench_report.report import Report
 from bench_report.runs import TOOLS_DIR, load_medians, run
 from bench_report.summary import build_summary
@@ -97,13 +97,8 @@ def suite_main(a):
         with open(summary_path) as f:
             earlier = json.load(f)
         for key, value in earlier.items():
-            if key.startswith("scale"):
+            if key.startswith("scale") or key in SCALE_KEYS:
                 summary[key] = value
-        for key in ("targets", "definitions"):
-            summary[key] = dict(summary[key])
-            for k, v in earlier.get(key, {}).items():
-                if k.startswith("scale"):
-                    summary[key][k] = v
     with open(summary_path, "w") as f:
         json.dump(summary, f, indent=2)
         f.write("\n")
@@ -112,4 +107,4 @@ def suite_main(a):
     have_plot = plot_chart(rep, a.out)
     print(f"bench-report: wrote {a.out}/bench.md, {a.out}/summary.json"
           f"{', ' + a.out + '/bench.svg, .png' if have_plot else ''} in {time.time() - t_start:.0f} s", file=sys.stderr)
-    print(json.dumps({k: summary[k] for k in TARGETS}, indent=2))
+    print(json.dumps({k: summary.get(k) for k in SUITE_KEYS}, indent=2))
