@@ -167,7 +167,7 @@ OcclusionRays& occlusion_rays() {
     cached = std::make_unique<OcclusionRays>();
     OcclusionRays& o = *cached;
     Setup& s = setup(256);
-    const SceneData& sd = s.ps.data();
+    const SceneData& sd = scene_data(s.ps);
     const int samples = sd.occlusion.samples;
     for (std::size_t j = 0; j < s.hits.size(); ++j) {
         const RayPacket8& cam = s.camera.packets[j];

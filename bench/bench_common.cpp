@@ -102,7 +102,7 @@ double all_tests(const SceneData& s) {
 }  // namespace
 
 double intersect_flops_per_ray(const PacketScene& scene) {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     double normal = 0;
     for (int t = 0; t < kPrimitiveTypeCount; ++t)
         if (s.count[std::size_t(t)] > 0) normal = std::max(normal, kNormalFlops[t]);
@@ -131,7 +131,7 @@ double intersect_flops_per_ray(const PacketScene& scene) {
 // primitive (counted in full: an upper bound, any_hit stops early once all
 // lanes are blocked).
 double shade_flops_per_ray(const PacketScene& scene) {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     double f = 6 + 3;
     if (s.features.has(kAmbient)) f += 3;
     f += 11.0 * s.directional_count + 22.0 * s.point_count + 25.0 * s.point_attenuated_count;

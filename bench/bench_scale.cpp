@@ -170,14 +170,14 @@ void register_all() {
 
 // OCTRAY_SCALE_LEAF, OCTRAY_SCALE_ICOST, OCTRAY_SCALE_TCOST, OCTRAY_SCALE_BLOCK:
 // compile()'s BVH max_leaf_size, intersection_cost, traversal_cost and leaf_block for this run (the
-// sweep of docs/performance.md; scale_common.hpp, compile_options); unset: the
+// sweep of docs/history/performance-2026.md; scale_common.hpp, compile_options); unset: the
 // library's own. (The walk's single_ray_lanes and octant split were swept the
-// same way while the walk was tuned: docs/performance.md, tuning the traversal.)
+// same way while the walk was tuned: docs/history/performance-2026.md, tuning the traversal.)
 int main(int argc, char** argv) {
     const octray::CompileOptions o = octray::scale::compile_options();
-    benchmark::AddCustomContext("bvh_options", "leaf " + std::to_string(o.max_leaf_size) + ", intersection cost " +
-                                                   std::to_string(o.intersection_cost) + ", traversal cost " +
-                                                   std::to_string(o.traversal_cost) + ", leaf block " +
-                                                   std::to_string(o.leaf_block));
+    benchmark::AddCustomContext("bvh_options", "leaf " + std::to_string(o.sah.max_leaf_size) + ", intersection cost " +
+                                                   std::to_string(o.sah.intersection_cost) + ", traversal cost " +
+                                                   std::to_string(o.sah.traversal_cost) + ", leaf block " +
+                                                   std::to_string(o.sah.leaf_block));
     return octray::bench::run_main(argc, argv, octray::bench::register_all);
 }

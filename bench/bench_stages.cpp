@@ -236,7 +236,7 @@ void bm_tonemap(benchmark::State& st, ToneMap mode, float gamma, Path path) {
 
 // ---- end to end on scenes/default.json -----------------------------------------
 double e2e_flops(const PacketScene& scene) {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     return camera_flops_per_ray(s.camera.orthographic) + intersect_flops_per_ray(scene) + shade_flops_per_ray(scene) +
            tonemap_flops_per_ray(s.tonemap, s.inv_gamma != 1.0f);
 }

@@ -66,7 +66,7 @@ Lookup<T> hit_lookup(const Closest<T>& best) {
 
 // Spheres only; compiled id k = sphere k.
 int intersect_spheres(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
@@ -85,7 +85,7 @@ int intersect_spheres(const PacketScene& scene, const RayPacket8& rp, HitPacket8
 
 // Planes only.
 int intersect_planes(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const PlaneArrays& a = s.planes;
@@ -102,7 +102,7 @@ int intersect_planes(const PacketScene& scene, const RayPacket8& rp, HitPacket8&
 
 // Spheres, then planes (compiled ids: spheres first).
 int intersect_spheres_planes(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
@@ -135,7 +135,7 @@ int intersect_spheres_planes(const PacketScene& scene, const RayPacket8& rp, Hit
 
 // Triangles only.
 int intersect_triangles(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const TriangleArrays& a = s.triangles;
@@ -152,7 +152,7 @@ int intersect_triangles(const PacketScene& scene, const RayPacket8& rp, HitPacke
 
 // Boxes only; the face normal from the hit point as in the library kernel.
 int intersect_boxes(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const BoxArrays& a = s.boxes;
@@ -207,13 +207,13 @@ Vec3<T> directional_sum(const SceneData& s, const Surface& f) {
 
 // directional lights, no ambient
 void shade_directional(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     const Surface f = surface(rp, hp);
     store_color(s, f, hadamard(Lookup<T>(f.m, f.hit)(s.diffuse_r, s.diffuse_g, s.diffuse_b), directional_sum(s, f)), out);
 }
 // ambient + directional lights
 void shade_ambient_directional(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     const Surface f = surface(rp, hp);
     const Lookup<T> material(f.m, f.hit);
     const Vec3<T> c = hadamard(material(s.diffuse_r, s.diffuse_g, s.diffuse_b), directional_sum(s, f)) +
@@ -223,7 +223,7 @@ void shade_ambient_directional(const PacketScene& scene, const RayPacket8& rp, c
 // point lights, with or without 1/r^2, no ambient
 template <bool Attenuated>
 void shade_point(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     const Surface f = surface(rp, hp);
     const PointArrays& a = Attenuated ? s.point_attenuated : s.point;
     const int count = Attenuated ? s.point_attenuated_count : s.point_count;

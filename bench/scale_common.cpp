@@ -191,10 +191,10 @@ Scene make_scene(Family f, int n, int image) {
 
 CompileOptions compile_options() {
     CompileOptions o;
-    if (const char* v = std::getenv("OCTRAY_SCALE_LEAF")) o.max_leaf_size = std::atoi(v);
-    if (const char* v = std::getenv("OCTRAY_SCALE_ICOST")) o.intersection_cost = float(std::atof(v));
-    if (const char* v = std::getenv("OCTRAY_SCALE_TCOST")) o.traversal_cost = float(std::atof(v));
-    if (const char* v = std::getenv("OCTRAY_SCALE_BLOCK")) o.leaf_block = std::atoi(v);
+    if (const char* v = std::getenv("OCTRAY_SCALE_LEAF")) o.sah.max_leaf_size = std::atoi(v);
+    if (const char* v = std::getenv("OCTRAY_SCALE_ICOST")) o.sah.intersection_cost = float(std::atof(v));
+    if (const char* v = std::getenv("OCTRAY_SCALE_TCOST")) o.sah.traversal_cost = float(std::atof(v));
+    if (const char* v = std::getenv("OCTRAY_SCALE_BLOCK")) o.sah.leaf_block = std::atoi(v);
     return o;
 }
 
@@ -209,7 +209,7 @@ World& world(Family f, int n, int image) {
     w.scene = compile(w.authored, compile_options());
     w.primitives = w.scene.primitive_count();
     w.name = std::string(family_name(f)) + ":" + std::to_string(f == Family::model ? w.primitives : n);
-    const bvh::Box& b = w.scene.data().bvh.bounds;
+    const bvh::Box& b = scene_data(w.scene).bvh.bounds;
     w.size = std::sqrt((b.hi[0] - b.lo[0]) * (b.hi[0] - b.lo[0]) + (b.hi[1] - b.lo[1]) * (b.hi[1] - b.lo[1]) +
                        (b.hi[2] - b.lo[2]) * (b.hi[2] - b.lo[2]));
     if (f == Family::spheres) {
@@ -289,7 +289,7 @@ RTCScene embree_scene(World& w, bool user) {
 }
 
 std::size_t octray_bytes(const PacketScene& scene) {
-    const SceneData& d = scene.data();
+    const SceneData& d = scene_data(scene);
     std::size_t b = d.bvh.bytes();
     const auto& s = d.spheres;
     for (const Floats* f : {&s.cx, &s.cy, &s.cz, &s.radius, &s.cx_lo, &s.cy_lo, &s.cz_lo}) b += held(*f);

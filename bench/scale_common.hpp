@@ -79,7 +79,7 @@ struct World {
 };
 
 // compile()'s options for every world: the library's defaults, or for a
-// sweep (docs/performance.md) OCTRAY_SCALE_LEAF, OCTRAY_SCALE_ICOST,
+// sweep (docs/history/performance-2026.md) OCTRAY_SCALE_LEAF, OCTRAY_SCALE_ICOST,
 // OCTRAY_SCALE_TCOST and OCTRAY_SCALE_BLOCK: max_leaf_size, intersection_cost,
 // traversal_cost, leaf_block.
 CompileOptions compile_options();

@@ -1,7 +1,9 @@
 // compile/compile.cpp — Scene (AoS, double) -> PacketScene (SoA, float).
+#include "compile/primitive_bounds.hpp"
 #include "kernels/scene_data.hpp"
 #include <octray/packet.hpp>
 #include <octray/reference.hpp>
+#include "reference/reference_parts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -79,66 +81,6 @@ void size_arrays(SceneData& s) {
     room(PrimitiveType::box, {&b.minx, &b.miny, &b.minz, &b.maxx, &b.maxy, &b.maxz});
     auto& t = s.triangles;
     room(PrimitiveType::triangle, {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz});
-}
-
-// The float next to f towards -inf (down) or +inf (up), for f not NaN and
-// not already the end it moves to: std::nextafter without the library call
-// (every bounded primitive's box takes six of these).
-float float_below(float f) {
-    if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
-    std::uint32_t b;
-    std::memcpy(&b, &f, sizeof b);
-    b = f > 0.0f ? b - 1u : b + 1u;  // magnitudes order like their bits
-    std::memcpy(&f, &b, sizeof f);
-    return f;
-}
-float float_above(float f) { return -float_below(-f); }
-
-// x rounded to a float no greater (down) or no smaller (up) than x.
-float round_down(double x) {
-    const float f = float(x);
-    return double(f) > x ? float_below(f) : f;
-}
-float round_up(double x) {
-    const float f = float(x);
-    return double(f) < x ? float_above(f) : f;
-}
-
-// An axis-aligned box around what the kernels test of a bounded primitive
-// (its float-rounded data), rounded outward to floats and widened by 2^-20 of
-// its size and position: the tests' own rounding never reaches past it.
-bvh::Box box_of(const Shape& shape) {
-    Vec3d lo, hi;
-    auto span = [&](const Vec3d& c, const Vec3d& half) { lo = c - half, hi = c + half; };
-    std::visit(
-        [&](const auto& p) {
-            using P = std::decay_t<decltype(p)>;
-            if constexpr (std::is_same_v<P, Sphere>) {
-                const double r = round_to_float(p.radius);
-                span(round_to_float(p.center), Vec3d{r, r, r});
-            } else if constexpr (std::is_same_v<P, Disk>) {
-                const double r = std::sqrt(round_to_float(p.radius * p.radius));
-                span(round_to_float(p.center), Vec3d{r, r, r});
-            } else if constexpr (std::is_same_v<P, Rectangle>) {
-                lo = hi = p.corner;
-                for (const Vec3d& q : {p.corner + p.a, p.corner + p.b, p.corner + p.a + p.b})
-                    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)},
-                    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
-            } else if constexpr (std::is_same_v<P, Box>) {
-                lo = round_to_float(p.min), hi = round_to_float(p.max);
-            } else if constexpr (std::is_same_v<P, Triangle>) {
-                const Vec3d a = round_to_float(p.v0), b = round_to_float(p.v1), c = round_to_float(p.v2);
-                lo = {std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
-                hi = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
-            }
-        },
-        shape);
-    const Vec3d size = hi - lo;
-    const double slack = 0x1p-20 * (std::max({size.x, size.y, size.z}) +
-                                    std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x),
-                                              std::fabs(hi.y), std::fabs(hi.z)}));
-    return {{round_down(lo.x - slack), round_down(lo.y - slack), round_down(lo.z - slack)},
-            {round_up(hi.x + slack), round_up(hi.y + slack), round_up(hi.z + slack)}};
 }
 
 // The centres' residuals in 16 bits (SphereArrays::cx_q..), where every one
@@ -231,13 +173,24 @@ void put_primitive(SceneData& s, std::size_t k, const Shape& shape) {
         shape);
 }
 
+// The builder's options: sah's, where a deprecated field of CompileOptions
+// that differs from its default stands in for its sah twin.
 bvh::BuildOptions build_options(const CompileOptions& o) {
+    const SahOptions defaults;
     bvh::BuildOptions b;
-    b.max_leaf_size = o.max_leaf_size;
-    b.bins = o.bins;
-    b.traversal_cost = o.traversal_cost;
-    b.intersection_cost = o.intersection_cost;
-    b.leaf_block = o.leaf_block;
+    b.max_leaf_size = o.sah.max_leaf_size;
+    b.bins = o.sah.bins;
+    b.traversal_cost = o.sah.traversal_cost;
+    b.intersection_cost = o.sah.intersection_cost;
+    b.leaf_block = o.sah.leaf_block;
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+    if (o.max_leaf_size != defaults.max_leaf_size) b.max_leaf_size = o.max_leaf_size;
+    if (o.bins != defaults.bins) b.bins = o.bins;
+    if (o.traversal_cost != defaults.traversal_cost) b.traversal_cost = o.traversal_cost;
+    if (o.intersection_cost != defaults.intersection_cost) b.intersection_cost = o.intersection_cost;
+    if (o.leaf_block != defaults.leaf_block) b.leaf_block = o.leaf_block;
+#pragma GCC diagnostic pop
     b.threads = o.threads;
     return b;
 }
@@ -252,78 +205,82 @@ void open_every_node(bvh::Bvh8& tree) {
                 node.lo_x[c] = node.lo_y[c] = node.lo_z[c] = -inf, node.hi_x[c] = node.hi_y[c] = node.hi_z[c] = inf;
 }
 
-}  // namespace
+// ---- compile()'s phases, in the order it runs them ----------------------------
 
-PacketScene::PacketScene() : data_(std::make_shared<SceneData>()) {}
-
-const Features& PacketScene::features() const noexcept { return data_->features; }
-int PacketScene::count(PrimitiveType type) const noexcept { return data_->count[std::size_t(type)]; }
-int PacketScene::primitive_count() const noexcept {
-    int n = 0;
-    for (const int c : data_->count) n += c;
-    return n;
-}
-int PacketScene::width() const noexcept { return data_->camera.width; }
-int PacketScene::height() const noexcept { return data_->camera.height; }
-
-PacketScene compile(const Scene& scene, const CompileOptions& options) {
-    validate(scene);  // includes the limits on primitives and materials (scene.hpp)
-
-    PacketScene compiled;
-    SceneData& s = *compiled.data_;
-    s.features = features_of(scene);
+// Primitives per type, and each type's first compiled id.
+void count_primitives(const Scene& scene, SceneData& s) {
     for (const Object& o : scene.objects) ++s.count[std::size_t(primitive_type(o.shape))];
     s.count[std::size_t(PrimitiveType::triangle)] += int(scene.mesh_triangle_count());
-    for (int t = 1; t < kPrimitiveTypeCount; ++t) s.offset[std::size_t(t)] = s.offset[std::size_t(t - 1)] + s.count[std::size_t(t - 1)];
+    for (int t = 1; t < kPrimitiveTypeCount; ++t)
+        s.offset[std::size_t(t)] = s.offset[std::size_t(t - 1)] + s.count[std::size_t(t - 1)];
+}
 
-    // Bounded primitives go into one BVH; its leaf order is each type's
-    // compiled order. Planes keep scene order. Entries are primitive ids
-    // (scene.hpp): objects, then mesh triangles.
-    const std::size_t object_count = scene.objects.size();
-    std::array<std::vector<std::size_t>, kPrimitiveTypeCount> of_type;
+// Every primitive by type, in primitive-id order (scene.hpp: objects, then
+// mesh triangles), and the BVH's input: the bounded ones' boxes and types.
+struct Collected {
+    std::array<std::vector<std::size_t>, kPrimitiveTypeCount> of_type;  // primitive ids per type
+    std::vector<std::size_t> first_triangle;  // per mesh: its first triangle's primitive id
     bvh::BuildInput input;
-    input.kind_count = kPrimitiveTypeCount;
-    for (int t = 0; t < kPrimitiveTypeCount; ++t) of_type[std::size_t(t)].reserve(std::size_t(s.count[std::size_t(t)]));
+    std::size_t total = 0;  // primitives
+};
+
+Collected collect_primitives(const Scene& scene, const SceneData& s) {
+    Collected c;
+    const std::size_t object_count = scene.objects.size();
+    c.input.kind_count = kPrimitiveTypeCount;
+    for (int t = 0; t < kPrimitiveTypeCount; ++t) c.of_type[std::size_t(t)].reserve(std::size_t(s.count[std::size_t(t)]));
     const std::size_t bounded = std::size_t(std::accumulate(s.count.begin(), s.count.end(), 0) -
                                             s.count[std::size_t(PrimitiveType::plane)]);
-    input.boxes.reserve(bounded);
-    input.kind.reserve(bounded);
+    c.input.boxes.reserve(bounded);
+    c.input.kind.reserve(bounded);
     for (std::size_t i = 0; i < object_count; ++i) {
         const PrimitiveType type = primitive_type(scene.objects[i].shape);
-        of_type[std::size_t(type)].push_back(i);
+        c.of_type[std::size_t(type)].push_back(i);
         if (type == PrimitiveType::plane) continue;
-        input.boxes.push_back(box_of(scene.objects[i].shape));
-        input.kind.push_back(std::uint8_t(type));
+        c.input.boxes.push_back(box_of(scene.objects[i].shape));
+        c.input.kind.push_back(std::uint8_t(type));
     }
-    std::vector<std::size_t> first_triangle;  // per mesh: its first triangle's primitive id
-    first_triangle.reserve(scene.meshes.size());
+    c.first_triangle.reserve(scene.meshes.size());
     std::size_t id = object_count;
     for (const Mesh& m : scene.meshes) {
-        first_triangle.push_back(id);
+        c.first_triangle.push_back(id);
         for (std::size_t k = 0; k < m.triangle_count(); ++k, ++id) {
-            of_type[std::size_t(PrimitiveType::triangle)].push_back(id);
-            input.boxes.push_back(box_of(reference::mesh_triangle(m, k)));
-            input.kind.push_back(std::uint8_t(PrimitiveType::triangle));
+            c.of_type[std::size_t(PrimitiveType::triangle)].push_back(id);
+            c.input.boxes.push_back(box_of(reference::mesh_triangle(m, k)));
+            c.input.kind.push_back(std::uint8_t(PrimitiveType::triangle));
         }
     }
+    c.total = id;
+    return c;
+}
+
+// The one BVH over the bounded primitives; returns its leaf order per type
+// (read once, by lay_out_primitives; not kept in the scene).
+std::vector<std::vector<std::uint32_t>> build_tree(const bvh::BuildInput& input, const CompileOptions& options,
+                                                   SceneData& s) {
     s.bvh = bvh::build_bvh8(input, build_options(options));
     if (options.acceleration == CompileOptions::Acceleration::none) open_every_node(s.bvh);
-
     // A walked tree whose leaves are all inline needs no leaf records.
     if (s.bvh.primitive_count() > kTestAllPrimitives && bvh::every_leaf_inline(s.bvh.nodes))
         AlignedVector<bvh::Leaf>().swap(s.bvh.leaves);
-    // The tree's permutations are read once, below: not kept.
-    const std::vector<std::vector<std::uint32_t>> order = std::move(s.bvh.order);
+    std::vector<std::vector<std::uint32_t>> order = std::move(s.bvh.order);
     s.bvh.order.clear();
+    return order;
+}
+
+// Each type's arrays in compiled order (the tree's leaf order; planes in
+// scene order), the maps between compiled and primitive ids, and the owners.
+void lay_out_primitives(const Scene& scene, const Collected& c, const std::vector<std::vector<std::uint32_t>>& order,
+                        SceneData& s) {
+    const std::size_t object_count = scene.objects.size();
     size_arrays(s);
-    const std::size_t total = id;
-    for (Floats* f : {&s.object_of.wide, &s.compiled_of.wide}) f->reserve(total + std::size_t(kPacketWidth));
-    s.object_of.wide.resize(total);
-    s.compiled_of.wide.resize(total);
-    fill_owners(scene, first_triangle, total, s.owners);
+    for (Floats* f : {&s.object_of.wide, &s.compiled_of.wide}) f->reserve(c.total + std::size_t(kPacketWidth));
+    s.object_of.wide.resize(c.total);
+    s.compiled_of.wide.resize(c.total);
+    fill_owners(scene, c.first_triangle, c.total, s.owners);
     Floats& material_of = s.owners.material_of;
     for (int type = 0; type < kPrimitiveTypeCount; ++type) {
-        const std::vector<std::size_t>& ids = of_type[std::size_t(type)];
+        const std::vector<std::size_t>& ids = c.of_type[std::size_t(type)];
         const bool planes = type == int(PrimitiveType::plane);
         auto id_at = [&](std::size_t pos) { return ids[planes ? pos : order[std::size_t(type)][pos]]; };
         for (std::size_t pos = 0; pos < ids.size(); ++pos) {
@@ -343,9 +300,15 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
             }
             const std::size_t m = std::size_t(s.owners.mesh(int(i)));
             if (!material_of.empty()) material_of[cid] = float(scene.meshes[m].material);
-            put_triangle(s.triangles, pos, reference::mesh_triangle(scene.meshes[m], i - first_triangle[m]));
+            put_triangle(s.triangles, pos, reference::mesh_triangle(scene.meshes[m], i - c.first_triangle[m]));
         }
     }
+}
+
+// Padding for whole-width loads past each array's end; the spheres' centre
+// residuals dropped where zero, else narrowed to 16 bits where they fit; the
+// id maps narrowed to 16 bits where they fit.
+void pad_and_narrow(SceneData& s, std::size_t total) {
     SphereArrays& sp = s.spheres;
     pad_for_runs(sp.cx, sp.cy, sp.cz, sp.radius, sp.cx_lo, sp.cy_lo, sp.cz_lo);
     // Float centres leave every residual zero: no arrays, and the normal reads none.
@@ -365,10 +328,13 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
         s.object_of.wide.push_back(0.0f);
         s.compiled_of.wide.push_back(0.0f);
     }
-    pad(s.object_of.wide, s.compiled_of.wide, material_of);
+    pad(s.object_of.wide, s.compiled_of.wide, s.owners.material_of);
     s.object_of.narrow();
     s.compiled_of.narrow();
+}
 
+// Lights: directions unit, ls * colour premultiplied; point lights by attenuation.
+void compile_lights(const Scene& scene, SceneData& s) {
     for (const DirectionalLight& l : scene.directional_lights) {
         auto& a = s.directional;
         push3(a.lx, a.ly, a.lz, normalized(l.direction));
@@ -384,22 +350,28 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
         push(a.shadows, l.shadows ? 1.0 : 0.0);
         ++(att ? s.point_attenuated_count : s.point_count);
     }
+    if (scene.ambient && scene.ambient_occlusion) {
+        const AmbientOcclusion& ao = *scene.ambient_occlusion;
+        s.occlusion = {ao.samples, float(ao.distance), float(ao.min_amount)};
+    }
+}
 
+// Materials' terms, premultiplied in double as the reference computes them.
+void compile_materials(const Scene& scene, SceneData& s) {
     for (const Material& m : scene.materials) {
         const Vec3d amb = reference::ambient_term(scene, m);  // the reference's eq. 7 and 8 terms, in double
         const Vec3d dif = reference::lambertian_brdf(m);
         push3(s.ambient_r, s.ambient_g, s.ambient_b, amb);
         push3(s.diffuse_r, s.diffuse_g, s.diffuse_b, dif);
     }
-    if (scene.ambient && scene.ambient_occlusion) {
-        const AmbientOcclusion& ao = *scene.ambient_occlusion;
-        s.occlusion = {ao.samples, float(ao.distance), float(ao.min_amount)};
-    }
     if (scene.materials.empty()) {  // keep gathers in bounds for an object-free scene
         push3(s.ambient_r, s.ambient_g, s.ambient_b, Vec3d{});
         push3(s.diffuse_r, s.diffuse_g, s.diffuse_b, Vec3d{});
     }
+}
 
+// Background, clamp colour, tone map and gamma.
+void compile_render_settings(const Scene& scene, SceneData& s) {
     for (int i = 0; i < 3; ++i) {
         s.background[i] = float(i == 0 ? scene.background.x : i == 1 ? scene.background.y : scene.background.z);
         const Vec3d& cc = scene.render.clamp_color;
@@ -407,9 +379,11 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
     }
     s.tonemap = scene.render.tonemap;
     s.inv_gamma = float(1.0 / scene.render.gamma);
+}
 
-    const Camera& c = scene.camera;
-    PacketCamera& pc = s.camera;
+// The camera's frame and image-plane mapping, in double (camera rays are
+// formed in double and rounded once, as the reference forms them).
+void compile_camera(const Camera& c, PacketCamera& pc) {
     const Vec3d w = normalized(c.eye - c.look_at);
     const Vec3d u = normalized(cross(c.up, w));
     const Vec3d v = cross(w, u);
@@ -428,6 +402,41 @@ PacketScene compile(const Scene& scene, const CompileOptions& options) {
         pc.shared_hi[i] = float(shared);
         pc.shared_lo[i] = float(shared - round_to_float(shared));  // (GCC 12 folds shared - double(float(shared)) to 0)
     }
+}
+
+}  // namespace
+
+PacketScene::PacketScene() : data_(std::make_shared<SceneData>()) {}
+
+const Features& PacketScene::features() const noexcept { return data_->features; }
+int PacketScene::count(PrimitiveType type) const noexcept { return data_->count[std::size_t(type)]; }
+int PacketScene::primitive_count() const noexcept {
+    int n = 0;
+    for (const int c : data_->count) n += c;
+    return n;
+}
+int PacketScene::width() const noexcept { return data_->camera.width; }
+int PacketScene::height() const noexcept { return data_->camera.height; }
+
+const SceneData& packet_scene_data(const PacketScene& scene) noexcept { return scene_data(scene); }
+
+PacketScene compile(const Scene& scene, const CompileOptions& options) {
+    validate(scene);  // includes the limits on primitives and materials (scene.hpp)
+
+    PacketScene compiled;
+    SceneData& s = *compiled.data_;
+    s.features = features_of(scene);
+    count_primitives(scene, s);
+    // Bounded primitives go into one BVH; its leaf order is each type's
+    // compiled order. Planes keep scene order.
+    const Collected collected = collect_primitives(scene, s);
+    const std::vector<std::vector<std::uint32_t>> order = build_tree(collected.input, options, s);
+    lay_out_primitives(scene, collected, order, s);
+    pad_and_narrow(s, collected.total);
+    compile_lights(scene, s);
+    compile_materials(scene, s);
+    compile_render_settings(scene, s);
+    compile_camera(scene.camera, s.camera);
     return compiled;
 }
 

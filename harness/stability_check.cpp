@@ -4,6 +4,8 @@
 // in stability_cases.hpp).
 #include "stability_check.hpp"
 
+#include "reference/reference_parts.hpp"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>

@@ -79,7 +79,7 @@ float triangle(V o, V d, V a, V b, V c) {
 }  // namespace
 
 int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     for (int i = 0; i < 8; ++i) {
         const V o{rp.ox[i], rp.oy[i], rp.oz[i]}, d{rp.dx[i], rp.dy[i], rp.dz[i]};
         float best = rp.tmax[i];
@@ -147,7 +147,7 @@ int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
 }
 
 void naive_shade(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     for (int i = 0; i < 8; ++i) {
         if (hp.hit[i] == 0 || rp.active[i] == 0) {
             out.r[i] = s.background[0], out.g[i] = s.background[1], out.b[i] = s.background[2];

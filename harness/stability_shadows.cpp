@@ -6,6 +6,8 @@
 // shadow offset (kernels/shading/shade.hpp, ieee_hit_point).
 #include "stability_check.hpp"
 
+#include "reference/reference_parts.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>

@@ -14,6 +14,7 @@
 #include "verify.hpp"
 
 #include <octray/reference.hpp>
+#include "reference/reference_parts.hpp"
 
 #include <algorithm>
 #include <cmath>

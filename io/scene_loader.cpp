@@ -199,7 +199,7 @@ using namespace scene_json;
 // without a word, so a repeated key is rejected here, and a number that
 // overflows a double is reported at its path. (The callback parser does the
 // same with a per-event callback, but its cost grows faster than the file:
-// docs/performance.md, scale.)
+// docs/history/performance-2026.md, scale.)
 class PathTracker {
 public:
     using Dom = nlohmann::detail::json_sax_dom_parser<Json>;

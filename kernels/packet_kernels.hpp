@@ -13,7 +13,10 @@
 //   kernels/bvh/traverse.hpp  the BVH8 walks: options, the packet walk, traverse_closest/traverse_any
 //   kernels/bvh/walk_ray.hpp     a ray as the BVH walks see it, the node child tests for one ray
 //   kernels/bvh/walk_single.hpp, kernels/bvh/walk_hull.hpp   the single-ray walk, the hull walk
-//   kernels/trace/intersect.hpp   closest hit, normals, any hit (shadow rays)
+//   kernels/trace/primitive_tests.hpp   the primitive tests dispatched by type (packet or one ray against a run)
+//   kernels/trace/closest_hit.hpp       the nearest hit, kept per lane
+//   kernels/trace/hit_record.hpp        the hit finished: normal, ids, HitPacket8
+//   kernels/trace/any_hit.hpp           any hit (shadow and occlusion rays)
 //   kernels/shading/shade.hpp       Lambertian shading
 //   kernels/shading/shadow_ray.hpp  the offset ray from a shaded point (shadow and occlusion rays)
 //   kernels/shading/sampling.hpp, kernels/shading/occlusion.hpp   ambient occlusion: the sample generator, the visible fraction
@@ -24,7 +27,8 @@
 #pragma once
 
 #include "kernels/trace/camera.hpp"
-#include "kernels/trace/intersect.hpp"
+#include "kernels/trace/any_hit.hpp"
+#include "kernels/trace/hit_record.hpp"
 #include "kernels/shading/occlusion.hpp"
 #include "kernels/shading/shade.hpp"
 #include "kernels/shading/tonemap.hpp"

@@ -179,4 +179,11 @@ struct SceneData {
     float inv_gamma = 1;
 };
 
+// The layout a compiled scene holds, for the kernels, the tools and the
+// tests; not part of the public API (PacketScene keeps it private).
+struct SceneAccess {
+    static const SceneData& of(const PacketScene& scene) noexcept { return *scene.data_; }
+};
+inline const SceneData& scene_data(const PacketScene& scene) noexcept { return SceneAccess::of(scene); }
+
 }  // namespace octray

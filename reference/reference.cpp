@@ -4,6 +4,7 @@
 // pixel, the nearest hit over all objects, then Matte::shade.
 // Every choice here is the simplest correct one; speed is not a goal.
 #include <octray/reference.hpp>
+#include "reference/reference_parts.hpp"
 
 #include "kernels/shading/sampling.hpp"
 

@@ -56,12 +56,12 @@ TEST_CASE("compile: sphere centre residuals in 16 bits near the origin, as float
     for (int i = 0; i < 200; ++i)
         near.objects.push_back(Object{Sphere{rays.in_cube(50), rays.uniform(0.02, 0.5)}, 0});
     const PacketScene a = compile(near);
-    const SphereArrays& sa = a.data().spheres;
+    const SphereArrays& sa = scene_data(a).spheres;
     REQUIRE(!sa.cx_q.empty());
     CHECK(sa.cx_lo.empty());
     for (std::size_t k = 0; k < near.objects.size(); ++k) {
         // compiled position k's sphere: its primitive id through object_of
-        const Sphere& s = std::get<Sphere>(near.objects[std::size_t(a.data().object_of[k])].shape);
+        const Sphere& s = std::get<Sphere>(near.objects[std::size_t(scene_data(a).object_of[k])].shape);
         CHECK(double(sa.cx[k]) == double(f(s.center.x)));
         CHECK(std::fabs(double(residual16(sa.cx[k], sa.cx_q[k])) - (s.center.x - double(sa.cx[k]))) <=
               std::ldexp(s.radius, -27));
@@ -71,7 +71,7 @@ TEST_CASE("compile: sphere centre residuals in 16 bits near the origin, as float
     Scene far = near;
     far.objects.push_back(Object{Sphere{{1e7 + 0.1, 0.3, 0.7}, 0.01}, 0});  // |c| / r = 1e9
     const PacketScene b = compile(far);
-    const SphereArrays& sf = b.data().spheres;
+    const SphereArrays& sf = scene_data(b).spheres;
     CHECK(sf.cx_q.empty());
     CHECK(!sf.cx_lo.empty());
 
@@ -82,19 +82,19 @@ TEST_CASE("compile: sphere centre residuals in 16 bits near the origin, as float
     // tolerance 2^-27 r for r = 1, beyond it for r = 2^-13 (floats are kept).
     Scene tie_low = one_object_scene(Sphere{{1.0 + 3 * std::ldexp(1.0, -24), 0.25, 0.5}, 1.0});
     const PacketScene c = compile(tie_low);
-    REQUIRE(!c.data().spheres.cx_q.empty());
-    CHECK(c.data().spheres.cx_q[0] == -32768);
-    CHECK(double(residual16(c.data().spheres.cx[0], c.data().spheres.cx_q[0])) == -std::ldexp(1.0, -24));
+    REQUIRE(!scene_data(c).spheres.cx_q.empty());
+    CHECK(scene_data(c).spheres.cx_q[0] == -32768);
+    CHECK(double(residual16(scene_data(c).spheres.cx[0], scene_data(c).spheres.cx_q[0])) == -std::ldexp(1.0, -24));
     Scene tie_high = one_object_scene(Sphere{{1.0 + std::ldexp(1.0, -24), 0.25, 0.5}, 1.0});
     const PacketScene d = compile(tie_high);
-    REQUIRE(!d.data().spheres.cx_q.empty());
-    CHECK(d.data().spheres.cx_q[0] == 32767);
-    CHECK(double(residual16(d.data().spheres.cx[0], d.data().spheres.cx_q[0])) ==
+    REQUIRE(!scene_data(d).spheres.cx_q.empty());
+    CHECK(scene_data(d).spheres.cx_q[0] == 32767);
+    CHECK(double(residual16(scene_data(d).spheres.cx[0], scene_data(d).spheres.cx_q[0])) ==
           std::ldexp(1.0, -24) - std::ldexp(1.0, -39));
     Scene tie_high_small = one_object_scene(Sphere{{1.0 + std::ldexp(1.0, -24), 0.25, 0.5}, std::ldexp(1.0, -13)});
     const PacketScene e = compile(tie_high_small);
-    CHECK(e.data().spheres.cx_q.empty());
-    CHECK(double(e.data().spheres.cx_lo[0]) == std::ldexp(1.0, -24));
+    CHECK(scene_data(e).spheres.cx_q.empty());
+    CHECK(double(scene_data(e).spheres.cx_lo[0]) == std::ldexp(1.0, -24));
 }
 
 TEST_CASE("CompileOptions: the thread count never changes the tree; bad options are refused") {
@@ -104,19 +104,46 @@ TEST_CASE("CompileOptions: the thread count never changes the tree; bad options 
     CompileOptions one, three;
     one.threads = 1, three.threads = 3;
     const PacketScene a = compile(s, one), b = compile(s, three), every = compile(s);
-    CHECK(a.data().bvh.nodes.size() > 1);
+    CHECK(scene_data(a).bvh.nodes.size() > 1);
     for (const PacketScene* p : {&b, &every}) {
-        CHECK(p->data().object_of == a.data().object_of);  // the leaf order
-        CHECK(p->data().bvh.nodes.size() == a.data().bvh.nodes.size());
-        CHECK(p->data().spheres.cx == a.data().spheres.cx);
+        CHECK(scene_data(*p).object_of == scene_data(a).object_of);  // the leaf order
+        CHECK(scene_data(*p).bvh.nodes.size() == scene_data(a).bvh.nodes.size());
+        CHECK(scene_data(*p).spheres.cx == scene_data(a).spheres.cx);
     }
     CHECK(resolve_threads(5) == 5);  // the one rule: n > 0 is n, 0 every core
     CHECK(resolve_threads(0) >= 1);
-    for (auto broken : {+[](CompileOptions& o) { o.threads = -1; }, +[](CompileOptions& o) { o.max_leaf_size = 0; },
-                        +[](CompileOptions& o) { o.bins = 1; }, +[](CompileOptions& o) { o.intersection_cost = 0; },
-                        +[](CompileOptions& o) { o.leaf_block = 0; }}) {
+    for (auto broken : {+[](CompileOptions& o) { o.threads = -1; }, +[](CompileOptions& o) { o.sah.max_leaf_size = 0; },
+                        +[](CompileOptions& o) { o.sah.bins = 1; }, +[](CompileOptions& o) { o.sah.intersection_cost = 0; },
+                        +[](CompileOptions& o) { o.sah.leaf_block = 0; }}) {
         CompileOptions o;
         broken(o);
         CHECK_THROWS_AS(compile(s, o), std::invalid_argument);
     }
+}
+
+TEST_CASE("CompileOptions: the SAH presets build what compile() accepts; the deprecated fields still count") {
+    Scene s = one_object_scene(Sphere{{0, 0, 0}, 1});
+    RandomRays rays(12);
+    for (int i = 0; i < 300; ++i) s.objects.push_back(Object{Sphere{fl(rays.in_cube(5)), f(rays.uniform(0.05, 0.3))}, 0});
+    const PacketScene balanced = compile(s);
+    for (const SahOptions& preset : {SahOptions::fast_build(), SahOptions::high_quality()}) {
+        CompileOptions o;
+        o.sah = preset;
+        const PacketScene p = compile(s, o);
+        CHECK(scene_data(p).bvh.primitive_count() == scene_data(balanced).bvh.primitive_count());
+    }
+    // A deprecated field that differs from its default stands in for sah's:
+    // an out-of-range one is refused, an in-range one builds sah's tree.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+    CompileOptions old_bad, old_leaf, new_leaf;
+    old_bad.bins = 1;
+    CHECK_THROWS_AS(compile(s, old_bad), std::invalid_argument);
+    old_leaf.max_leaf_size = 2;
+#pragma GCC diagnostic pop
+    new_leaf.sah.max_leaf_size = 2;
+    const PacketScene a = compile(s, old_leaf), b = compile(s, new_leaf);
+    CHECK(scene_data(a).object_of == scene_data(b).object_of);
+    CHECK(scene_data(a).bvh.nodes.size() == scene_data(b).bvh.nodes.size());
+    CHECK(scene_data(a).bvh.nodes.size() != scene_data(balanced).bvh.nodes.size());
 }

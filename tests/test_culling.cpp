@@ -51,7 +51,7 @@ TEST_CASE("BVH culling: scenes of hundreds of primitives agree with the referenc
     const PacketScene ps = compile(s);
     // Every bounded primitive is in exactly one leaf, as a run of its type's
     // compiled arrays, inside every box on its way down; planes are not.
-    const SceneData& data = ps.data();
+    const SceneData& data = scene_data(ps);
     REQUIRE(!data.bvh.empty());
     std::vector<int> seen(std::size_t(ps.primitive_count()), 0);
     for (const bvh::Node8& node : data.bvh.nodes)  // each leaf as the walks find it (its record may be released)
@@ -154,7 +154,7 @@ TEST_CASE("the BVH walk skips only what no ray of the packet could hit: bundles 
         s.objects.push_back(Object{shape, 0});
     }
     const PacketScene culled = compile(s);
-    REQUIRE(culled.data().bvh.depth >= 3);
+    REQUIRE(scene_data(culled).bvh.depth >= 3);
     CompileOptions flat;
     flat.acceleration = CompileOptions::Acceleration::none;
     const PacketScene unculled = compile(s, flat);

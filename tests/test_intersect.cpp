@@ -10,6 +10,7 @@
 
 #include <octray/kernels.hpp>
 #include <octray/reference.hpp>
+#include "reference/reference_parts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -221,8 +222,8 @@ TEST_CASE("primitive ids and sphere shading agree with the reference below and a
             for (int i = 0; i < side; ++i) scene.objects.push_back(Object{Sphere{{3.0 * i, 3.0 * j, 0}, 1}, 0});
         scene.point_lights.push_back(PointLight{{10, 20, 50}, {1, 1, 1}, 2000.0});
         const PacketScene ps = compile(scene);
-        CHECK(ps.data().object_of.narrow_ids.empty() == (side * side > 65536));
-        CHECK(ps.data().compiled_of.narrow_ids.empty() == (side * side > 65536));
+        CHECK(scene_data(ps).object_of.narrow_ids.empty() == (side * side > 65536));
+        CHECK(scene_data(ps).compiled_of.narrow_ids.empty() == (side * side > 65536));
         std::vector<int> targets;
         for (int k = 0; k < side * side; k += side * side / 61) targets.push_back(k);
         for (int k = side * side - 8; k < side * side; ++k) targets.push_back(k);

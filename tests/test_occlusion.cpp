@@ -12,6 +12,7 @@
 
 #include <octray/kernels.hpp>
 #include <octray/reference.hpp>
+#include "reference/reference_parts.hpp"
 
 #include <cmath>
 #include <random>

@@ -14,6 +14,7 @@
 
 #include <octray/kernels.hpp>
 #include <octray/reference.hpp>
+#include "reference/reference_parts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -192,7 +193,7 @@ std::vector<double> sphere_offsets(const Scene& scene, const ReferenceHits& r, c
             const Vec3d d{double(rp.dx[q]) + rp.dx_lo[q], double(rp.dy[q]) + rp.dy_lo[q], double(rp.dz[q]) + rp.dz_lo[q]};
             const Vec3d e = hit.point - o, dn = d * (1 / std::sqrt(dot(d, d)));
             const Vec3d across = e - dn * dot(e, dn);
-            const double centre = packet.data().spheres.cx_q.empty() ? 0.0 : std::ldexp(std::fabs(s->radius), -27);
+            const double centre = scene_data(packet).spheres.cx_q.empty() ? 0.0 : std::ldexp(std::fabs(s->radius), -27);
             out[lane] = std::sqrt(dot(across, across)) + std::fabs(round_to_float(s->radius) - s->radius) + centre;
         }
     return out;

@@ -3,6 +3,7 @@
 // equations of docs/shading-model.md: background, ambient, directional and
 // point lights, their sum, shadows, and the shadow-ray offset.
 #include "reference_fixtures.hpp"
+#include "reference/reference_parts.hpp"
 
 #include <doctest/doctest.h>
 

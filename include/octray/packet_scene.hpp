@@ -14,11 +14,45 @@
 
 namespace octray {
 
-struct SceneData;  // kernels/scene_data.hpp (internal)
+struct SceneData;    // kernels/scene_data.hpp (internal)
+struct SceneAccess;  // the kernels' view of a PacketScene (internal)
+
+// The binned-SAH build's parameters (Wald 2007): at most max_leaf_size
+// primitives a leaf (1..255), SAH bins per axis (2..64), the SAH costs of
+// visiting a binary node (finite, >= 0) and of testing a block of leaf_block
+// primitives (finite, > 0), and that block (1..255: the primitives one ray
+// tests at once, side by side in the lanes). Start from a preset; no value
+// changes an image, only how fast the scene is built and traced.
+struct SahOptions {
+    int max_leaf_size = 8;
+    int bins = 16;
+    float traversal_cost = 2.0f;
+    float intersection_cost = 1.0f;
+    int leaf_block = 8;
+
+    // The defaults: what compile() uses unless told otherwise.
+    static SahOptions balanced() noexcept { return {}; }
+    // Half the bins: less work a split, so a shorter build.
+    static SahOptions fast_build() noexcept {
+        SahOptions o;
+        o.bins = 8;
+        return o;
+    }
+    // Twice the bins: split positions looked at more finely, for a longer build.
+    static SahOptions high_quality() noexcept {
+        SahOptions o;
+        o.bins = 32;
+        return o;
+    }
+};
 
 // How compile() builds the acceleration structure over the bounded
 // primitives (every type but planes). A value: compile() reads it, keeps
 // nothing, and no option changes an image: only how fast it is made.
+// (The pragmas: the implicit constructors copy the deprecated fields; only a
+// caller's own use of one should warn.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
 struct CompileOptions {
     enum class Acceleration {
         bvh,   // an 8-wide BVH by binned SAH: a walk skips what a ray cannot hit
@@ -29,17 +63,18 @@ struct CompileOptions {
     // Threads for the build (octray/threads.hpp: 0 = every core; >= 0). The
     // tree is the same whatever the count.
     int threads = 0;
-    // The build's parameters: at most max_leaf_size primitives a leaf
-    // (1..255), SAH bins per axis (2..64), the SAH costs of visiting a
-    // binary node (finite, >= 0) and of testing a block of leaf_block
-    // primitives (finite, > 0), and that block (1..255: the primitives one
-    // ray tests at once, side by side in the lanes).
-    int max_leaf_size = 8;
-    int bins = 16;
-    float traversal_cost = 2.0f;
-    float intersection_cost = 1.0f;
-    int leaf_block = 8;
+    SahOptions sah = SahOptions::balanced();
+
+    // Deprecated (octray 0.1's names; removed in 0.3): sah's fields, as
+    // they were before they were grouped. One that differs from its default
+    // is used in place of sah's.
+    [[deprecated("use CompileOptions::sah.max_leaf_size")]] int max_leaf_size = 8;
+    [[deprecated("use CompileOptions::sah.bins")]] int bins = 16;
+    [[deprecated("use CompileOptions::sah.traversal_cost")]] float traversal_cost = 2.0f;
+    [[deprecated("use CompileOptions::sah.intersection_cost")]] float intersection_cost = 1.0f;
+    [[deprecated("use CompileOptions::sah.leaf_block")]] int leaf_block = 8;
 };
+#pragma GCC diagnostic pop
 
 class PacketScene {
   public:
@@ -51,13 +86,16 @@ class PacketScene {
     int width() const noexcept;   // the camera's image size
     int height() const noexcept;
 
-    // The kernels' view (internal layout).
-    const SceneData& data() const noexcept { return *data_; }
-
   private:
     std::shared_ptr<SceneData> data_;
     friend PacketScene compile(const Scene& scene, const CompileOptions& options);
+    friend struct SceneAccess;
 };
+
+// Deprecated (removed in octray 0.3): PacketScene::data(), the kernels'
+// internal layout, which no public header defines.
+[[deprecated("the kernels' internal layout is not part of the API; removed in octray 0.3")]]
+const SceneData& packet_scene_data(const PacketScene& scene) noexcept;
 
 // Compiles a scene. Throws std::invalid_argument when validate() rejects it or
 // it has 2^24 or more primitives (objects and mesh triangles) or materials

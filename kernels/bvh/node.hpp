@@ -195,14 +195,14 @@ struct BuildInput {
 // Defaults measured with bench/bench_bvh.cpp (closest hit on a tessellated
 // sphere's 262k triangle boxes, 8-float packets and single rays): over
 // max_leaf_size 1/2/4/8 x traversal_cost 1/2/4, larger leaves and costlier
-// nodes were faster and smaller (docs/performance.md has the sweep);
+// nodes were faster and smaller (docs/history/performance-2026.md has the sweep);
 // cost 2 is kept because the benchmark's leaf test (a slab test a box) is
 // much cheaper than the kernels' primitive tests.
 struct BuildOptions {
     // At most this many primitives a leaf (1..255). A larger node is always
     // split; a smaller one becomes a leaf where SAH prefers it.
     int max_leaf_size = 8;
-    int bins = 16;  // SAH bins per axis (2..64); 8 and 32 gave about the same SAH cost (docs/performance.md)
+    int bins = 16;  // SAH bins per axis (2..64); 8 and 32 gave about the same SAH cost (docs/history/performance-2026.md)
     // SAH costs, per binary node visited and per primitive tested. A wide
     // node is 8 child slab tests standing for ~3 binary levels.
     float traversal_cost = 2.0f;

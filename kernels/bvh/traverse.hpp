@@ -45,7 +45,7 @@
 //     it takes one): that lane's ray against the leaf's primitives in the
 //     lanes.
 //     The thresholds and orders were chosen by measurement
-//     (docs/performance.md).
+//     (docs/history/performance-2026.md).
 //
 // Filling the view from the kernels' Ray<T, P> (kernels/packet_kernels.hpp):
 //   const auto view = bvh::make_ray_view(r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.tmin);
@@ -98,7 +98,7 @@ struct WalkOptions {
     // two each, which then walk as single rays from the root). Off: on the
     // kernels' own primitive tests the whole packet walking together until
     // it diverges was faster at every size of the cost curve, incoherent
-    // rays most of all (docs/performance.md, the cost curve).
+    // rays most of all (docs/history/performance-2026.md, the cost curve).
     bool split_octants = false;
     // A packet's leaf reached by at most this many lanes (float lanes, with
     // a leaf function that takes LaneOf) is tested lane by lane, each ray

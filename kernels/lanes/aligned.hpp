@@ -4,7 +4,7 @@
 //
 // Why huge pages: a compile() touches every array it makes once, right away,
 // and on a virtual machine each 4 KiB page's first touch is a fault through
-// the hypervisor (docs/performance.md measures it: about a third of a
+// the hypervisor (docs/history/performance-2026.md measures it: about a third of a
 // 262k-triangle build). An array of at least kHugeBytes starts on a 2 MiB
 // boundary and its whole 2 MiB blocks are marked MADV_HUGEPAGE, so one fault
 // maps 2 MiB; the tail past the last whole block keeps small pages (no

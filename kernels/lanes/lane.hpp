@@ -124,7 +124,7 @@ inline xsimd::batch<S, A> select(const xsimd::batch_bool<S, A>& m, const xsimd::
 }
 // select(m, a, 0) as one AND where the mask is a vector of all-ones or
 // all-zeros lanes: GCC rewrites a blend with zero into a sign compare plus an
-// AND (docs/performance.md has the count). Masks in
+// AND (docs/history/performance-2026.md has the count). Masks in
 // mask registers (AVX-512 batches) keep the select.
 template <class S, class A>
 inline xsimd::batch<S, A> keep(const xsimd::batch_bool<S, A>& m, const xsimd::batch<S, A>& a) {

@@ -24,6 +24,7 @@
 
 #include "kernels/shading/sampling.hpp"
 #include "kernels/shading/shadow_ray.hpp"
+#include "kernels/trace/any_hit.hpp"
 
 #include <array>
 #include <cmath>

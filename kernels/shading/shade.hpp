@@ -3,7 +3,8 @@
 // 1/r^2 where attenuated), with shadow rays where a light casts them.
 #pragma once
 
-#include "kernels/trace/intersect.hpp"
+#include "kernels/trace/any_hit.hpp"
+#include "kernels/trace/hit_record.hpp"
 #include "kernels/shading/occlusion.hpp"
 #include "kernels/shading/shadow_ray.hpp"
 
@@ -245,7 +246,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
 
 template <class T, Precision P, unsigned F, OcclusionLayout L = kOcclusionLayout>
 void shade_packet(const PacketScene& scene, const RayPacket8& rp, const HitPacket8& hp, ColorPacket8& out) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) shade_lanes<T, P, F, L>(s, rp, hp, out, lane);
 }
 

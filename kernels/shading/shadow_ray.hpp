@@ -2,7 +2,7 @@
 // occlusion sample), offset off the surface: what kernels/shading/shade.hpp and kernels/shading/occlusion.hpp share.
 #pragma once
 
-#include "kernels/trace/intersect.hpp"
+#include "kernels/trace/ray.hpp"
 
 namespace octray::kernels::OCTRAY_ISA {
 

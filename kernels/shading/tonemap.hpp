@@ -91,7 +91,7 @@ inline void tonemap_k(const SceneData& s, const ColorPacket8* in, ColorPacket8* 
 
 template <class T, Precision P>
 void tonemap_group(const PacketScene& scene, const ColorPacket8* in, ColorPacket8* out, int count) noexcept {
-    const SceneData& s = scene.data();
+    const SceneData& s = scene_data(scene);
     int i = 0;
     for (; i + 2 <= count; i += 2) tonemap_k<T, P, 2>(s, in + i, out + i);
     if (i < count) tonemap_k<T, P, 1>(s, in + i, out + i);
@@ -99,7 +99,7 @@ void tonemap_group(const PacketScene& scene, const ColorPacket8* in, ColorPacket
 
 template <class T, Precision P>
 void tonemap_packet(const PacketScene& scene, const ColorPacket8& in, ColorPacket8& out) noexcept {
-    tonemap_k<T, P, 1>(scene.data(), &in, &out);
+    tonemap_k<T, P, 1>(scene_data(scene), &in, &out);
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA

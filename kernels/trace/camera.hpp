@@ -173,9 +173,9 @@ template <class T, Precision P>
 void camera_packet(const PacketScene& scene, int x0, int y, RayPacket8& rp) noexcept {
     if constexpr (std::is_same_v<lane::Scalar<T>, double>) {
         using Floats = std::conditional_t<lane::width<T> == 1, float, xsimd::batch<float, xsimd::fma3<xsimd::avx2>>>;
-        camera_rays<Floats>(scene.data().camera, x0, y, rp);
+        camera_rays<Floats>(scene_data(scene).camera, x0, y, rp);
     } else {
-        camera_rays<T>(scene.data().camera, x0, y, rp);
+        camera_rays<T>(scene_data(scene).camera, x0, y, rp);
     }
 }
 

@@ -1,0 +1,88 @@
+// kernels/trace/closest_hit.hpp — the nearest hit of a packet over a
+// compiled scene: planes in scene order, then the bounded primitives the BVH
+// walk yields (kernels/bvh/culling.hpp), each candidate kept by t and id.
+#pragma once
+
+#include "kernels/trace/primitive_tests.hpp"
+
+namespace octray::kernels::OCTRAY_ISA {
+
+// ---- the closest hit so far, per lane -----------------------------------------
+template <class T>
+struct Closest {
+    T t;    // tmax until something is hit
+    T cid;  // compiled id of the hit primitive (exact float), -1 on a miss
+    Mask<T> near = Mask<T>(true);  // a sphere's hit: the near root (sphere_hit), for sphere_normal
+
+    // Keeps the lanes of `hit` (a test accepted them for t' < t) at t' and id.
+    OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id) {
+        if (!lane::any(hit)) return;  // most tests miss on every lane
+        t = lane::select(hit, t_hit, t);
+        cid = lane::select(hit, T(float(id)), cid);
+    }
+    // A sphere's hit, with its root.
+    OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id, const Mask<T>& near_hit) {
+        if (!lane::any(hit)) return;
+        t = lane::select(hit, t_hit, t);
+        cid = lane::select(hit, T(float(id)), cid);
+        near = (hit && near_hit) || (lane::not_(hit) && near);
+    }
+};
+
+// The bounded primitives' part of closest_hit, templated on those types alone
+// (B = bounded_bits(F)): kernels that differ only in planes share one walk,
+// which keeps the number of walk instantiations, and the build, in check.
+template <class T, Precision P, unsigned B>
+inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& best) {
+    LaneRay<T, P> lanes(r);
+    for_each_candidate<true, B>(s, r, r.valid, best.t, [&](auto tag, int k) OCTRAY_HOT_LAMBDA {
+        constexpr PrimitiveType type = decltype(tag)::value;
+        Mask<T> hit;
+        if constexpr (type == PrimitiveType::sphere) {
+            Mask<T> near;
+            const T t = test_sphere(s, k, r, hit, best.t, near);
+            best.take(hit, t, s.offset[int(type)] + k, near);
+        } else {
+            const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
+            best.take(hit, t, s.offset[int(type)] + k);
+        }
+    }, [&](auto tag, int k0, int n, int i) OCTRAY_HOT_LAMBDA {
+        // Lane i alone: its ray against the run, nearest t kept, the lowest
+        // index on a tie (the packet test's order: later ones must be nearer).
+        constexpr PrimitiveType type = decltype(tag)::value;
+        constexpr int W = lane::width<T>;
+        const Ray<T, P>& one = lanes.at(i, type == PrimitiveType::triangle);
+        T tbest = bvh::detail::lane_broadcast(best.t, i);
+        for (int j = 0; j < n; j += W) {
+            Mask<T> hit, near;
+            const T t = test_run<type>(s, k0 + j, one, hit, tbest, near);
+            hit = hit && run_lanes<T>(n - j);
+            if (!lane::any(hit)) continue;
+            tbest = T(lane::hmin(lane::select(hit, t, inf<T>())));
+            const int first = __builtin_ctz(lane::bits(hit && t == tbest));
+            const Mask<T> alone = bvh::detail::lane_alone<T>(i);
+            if constexpr (type == PrimitiveType::sphere)
+                best.take(alone, tbest, s.offset[int(type)] + k0 + j + first,
+                          Mask<T>(((lane::bits(near) >> first) & 1u) != 0));
+            else
+                best.take(alone, tbest, s.offset[int(type)] + k0 + j + first);
+        }
+    });
+}
+
+template <class T, Precision P, unsigned F>
+inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
+    Closest<T> best{r.tmax, T(-1)};
+    if constexpr ((F & kPlane) != 0) {
+        const int base = s.offset[int(PrimitiveType::plane)];
+        for (int k = 0; k < s.count[int(PrimitiveType::plane)]; ++k) {
+            Mask<T> hit;
+            const T t = test_primitive<PrimitiveType::plane, T, P>(s, k, r, hit, best.t);
+            best.take(hit, t, base + k);
+        }
+    }
+    if constexpr (bounded_bits(F) != 0) closest_bounded<T, P, bounded_bits(F)>(s, r, best);
+    return best;
+}
+
+}  // namespace octray::kernels::OCTRAY_ISA
