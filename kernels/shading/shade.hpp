@@ -90,7 +90,7 @@ inline void ieee_hit_point(const SceneData& s, const RayPacket8& rp, int lane, c
             take(m, {nearer(p.x, lo.x, hi.x), nearer(p.y, lo.y, hi.y), nearer(p.z, lo.z, hi.z)});
         }
         if (const Mask<T> m = of_type(PrimitiveType::triangle, base); lane::any(m))
-            take(m, Lookup<T>(lane::keep(m, cid - T(float(base))), m)(s.triangles.ax, s.triangles.ay, s.triangles.az));
+            take(m, triangle_fields3(s, Lookup<T>(lane::keep(m, cid - T(float(base))), m), kV0));
         if (lane::any(flat)) {
             const T den = fdot(d, n);
             const Mask<T> ok = flat && den != T(0);
