@@ -431,10 +431,10 @@ TEST_CASE("end to end: every scene renders within each mode's stated bound on ev
                          << end_to_end_bound(p) * kappa << " + sphere term, kappa " << kappa << "), worst lane "
                          << worst << " of its bound (sphere lanes " << worst_sphere << "), mismatched " << a.mismatched
                          << " of " << a.lanes << ", edge lanes " << edges << ", max L/S with them " << all.max_scaled);
-            // Every cell: the estimate modes' shadow rays start from an IEEE
-            // hit point (shade.hpp, ieee_hit_point) with exact's offset, so
-            // they decide visibility as exact does (scenes/models.json used
-            // to reach 0.49 S in approx with the offset scaled to its error).
+            // Every cell: the estimate modes' shadow rays start from exact's
+            // hit point (their t is IEEE) with exact's offset, so they decide
+            // visibility as exact does (scenes/models.json used to reach
+            // 0.49 S in approx with the offset scaled to its error).
             CHECK(worst <= 1);
         });
     }

@@ -25,6 +25,17 @@
 // r0*(1.5 - 0.5*x*r0^2) leaves 1.5*e^2 plus four roundings: 3.4u + 3u (fast)
 // < 2^-21, 3.1u (fast14) < 2^-22.
 //
+// Where the modes differ. Whatever decides which primitive a ray hits is
+// IEEE in every mode: the box test's slab reciprocals, the t of planes,
+// disks, rectangles and triangles, and the sphere's root c/q (kernels/ray.hpp,
+// planar.hpp, triangle.hpp, sphere.hpp), as are the BVH walks' reciprocals
+// and 1/(d.d). An estimate there (2^-12 of t, a different error per slab)
+// chose the slab of entry, the nearer of a box and the plane it stands on,
+// a disk's rim and the face a box normal takes, far from any silhouette:
+// rows of pixels on the wrong primitive or face (0.1-0.7 S). So the modes
+// differ in the shading's point lights (1/|v|, n.l, 1/r^2) and the tone map's
+// reciprocal only, and their hits, t and normals are exact's.
+//
 // Not a mode's choice: the tone map's gamma step c^(1/gamma) is
 // lane_pow.hpp's x^y in every float mode (within 2 + 1.25|y| ulp, measured
 // 1.3 ulp at gamma 2.2), libm's / xsimd's double pow in f64.
@@ -187,8 +198,8 @@ inline constexpr double ndotl_bound(Precision p) { return normalize_bound(p); }
 // lit surface never shadows itself (no "shadow acne"). A sphere's hit point
 // c + R n carries no t-sized error: there relative to |p| alone.
 // (The kernels use the larger of this and 1e-4 |p|.)
-// The hit point is IEEE in every mode: the estimate modes recompute it with an
-// IEEE division before shading (kernels/shade.hpp, ieee_hit_point), so their
+// The hit point is IEEE in every mode: the primitive tests divide exactly in
+// every mode (see "Where the modes differ" above), so the estimate modes'
 // point carries exact's error and their shadow rays take exact's offset. An
 // offset scaled to the estimate's own error (8 * 1.5 * 2^-12 (|p| + t) for
 // approx) lifted the ray past nearby geometry (a crease, a thin wall) and
