@@ -50,11 +50,11 @@ inline void finish_ray(Ray<T, P>& r, const T& dd) {
 }
 
 // The box test's slab reciprocals (Ray::inv_d): IEEE in every precision
-// mode. Each axis' slab t carries its reciprocal's error, so with an
-// estimate (2^-12, a different error per axis) the largest entry, which
-// decides hit or miss near an edge and the face hit, was the estimate's
-// choice, and the box's t lost to or beat a plane it stands on. Three
-// divisions a ray, made once. A subnormal component counts as zero (signed
+// mode. Each axis' slab t carries its reciprocal's error: with an estimate
+// (2^-12, a different error per axis) the largest entry, which decides hit
+// or miss near an edge and the face hit, would be the estimate's choice, and
+// the box's t could lose to or beat a plane it stands on. Three divisions a
+// ray, made once. A subnormal component counts as zero (signed
 // infinity), as the BVH walks' inverse_direction does.
 template <class T, Precision P>
 inline void make_slabs(const Ray<T, P>& r) {
