@@ -126,8 +126,15 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
             const T ndl = fdot(n, v) * inv_r;
             Mask<T> lit = hit && apart && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
-                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, v * inv_r, (r2 * inv_r) * unscale, lit, reach));
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit)) {
+                    // The light is at t = 1 / inv_r along v * inv_r. With an
+                    // estimate's inv_r, r2 * inv_r ends the segment (1 + e)^2
+                    // from it, up to 2^-11 r past it: a surface just behind
+                    // the light would shadow it. IEEE modes keep r2 * inv_r.
+                    T to_light = r2 * inv_r;
+                    if constexpr (!is_ieee(P)) to_light = T(1) / inv_r;
+                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, v * inv_r, to_light * unscale, lit, reach));
+                }
             }
             T weight = ndl;
             if constexpr (decltype(attenuated)::value) {
