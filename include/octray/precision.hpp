@@ -34,7 +34,8 @@
 // a disk's rim and the face a box normal takes, far from any silhouette:
 // rows of pixels on the wrong primitive or face (0.1-0.7 S). So the modes
 // differ in the shading's point lights (1/|v|, n.l, 1/r^2) and the tone map's
-// reciprocal only, and their hits, t and normals are exact's.
+// reciprocal only, and their hits, t and normals are exact's; a shadow ray
+// toward a point light ends at the light's own t (kernels/shade.hpp).
 //
 // Not a mode's choice: the tone map's gamma step c^(1/gamma) is
 // lane_pow.hpp's x^y in every float mode (within 2 + 1.25|y| ulp, measured
