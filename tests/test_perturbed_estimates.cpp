@@ -138,8 +138,9 @@ TEST_CASE("a point light just below a ceiling lights the floor: the shadow segme
         for (Precision p : kEstimateModes)
             for (const perturbed::Setting& setting : kSettings)
                 runs.push_back({Tracer{u.path, p, false, u.kernel, setting_name(u, setting)}, setting});
-    for (const auto& [t, setting] : runs) {
-        const Use use(setting);
+    for (const auto& run : runs) {
+        const Tracer& t = run.first;  // not a structured binding: INFO captures it
+        const Use use(run.second);
         const Measure m = measure_all(t, s, lanes);
         INFO(t.name() << ": error " << m.error << " " << m.note);
         CHECK(m.pass);
