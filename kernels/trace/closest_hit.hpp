@@ -31,13 +31,17 @@ struct Closest {
         cid = lane::select(hit, T(float(id)), cid);
         near = (hit && near_hit) || (lane::not_(hit) && near);
     }
-    // A triangle's hit, with its normal and primitive id.
-    OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id, const Vec3<T>& n, const T& primitive) {
+    // A triangle's hit: the j-th of `tri`, with its normal and primitive id
+    // (read from the block only when some lane takes it).
+    OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id, const TriangleRun& tri, int j) {
         if (!lane::any(hit)) return;
         t = lane::select(hit, t_hit, t);
         cid = lane::select(hit, T(float(id)), cid);
-        tri_n = {lane::select(hit, n.x, tri_n.x), lane::select(hit, n.y, tri_n.y), lane::select(hit, n.z, tri_n.z)};
-        tri_id = lane::select(hit, primitive, tri_id);
+        const float* at = tri.data + std::size_t(j);
+        const std::size_t n = std::size_t(tri.n);
+        const Vec3<T> m{T(at[kNormal * n]), T(at[(kNormal + 1) * n]), T(at[(kNormal + 2) * n])};
+        tri_n = {lane::select(hit, m.x, tri_n.x), lane::select(hit, m.y, tri_n.y), lane::select(hit, m.z, tri_n.z)};
+        tri_id = lane::select(hit, T(at[kPrimitiveId * n]), tri_id);
     }
 };
 
@@ -57,8 +61,7 @@ inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& 
         } else if constexpr (type == PrimitiveType::triangle) {
             const int j = k - run.k0;
             const T t = test_triangle(run.tri, j, r, hit, best.t);
-            best.take(hit, t, s.offset[int(type)] + k, broadcast_run3<T>(run.tri, kNormal, j),
-                      T(run.tri.data[std::size_t(kPrimitiveId) * std::size_t(run.tri.n) + std::size_t(j)]));
+            best.take(hit, t, s.offset[int(type)] + k, run.tri, j);
         } else {
             const T t = test_primitive<type, T, P>(s, k, run, r, hit, best.t);
             best.take(hit, t, s.offset[int(type)] + k);
@@ -83,8 +86,7 @@ inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& 
                           Mask<T>(((lane::bits(near) >> first) & 1u) != 0));
             } else {
                 const int jj = j + first;
-                best.take(alone, tbest, s.offset[int(type)] + run.k0 + jj, broadcast_run3<T>(run.tri, kNormal, jj),
-                          T(run.tri.data[std::size_t(kPrimitiveId) * std::size_t(run.tri.n) + std::size_t(jj)]));
+                best.take(alone, tbest, s.offset[int(type)] + run.k0 + jj, run.tri, jj);
             }
         }
     });

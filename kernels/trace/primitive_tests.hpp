@@ -31,11 +31,11 @@ inline Vec3<T> broadcast_run3(const TriangleRun& tri, int f, int j) {
     return {T(at[0]), T(at[tri.n]), T(at[2 * tri.n])};
 }
 
-// The j-th triangle of a run, its vertices and normal broadcast.
+// The j-th triangle of a run, its vertices broadcast.
 template <class T, Precision P>
 OCTRAY_HOT T test_triangle(const TriangleRun& tri, int j, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
     return intersect_triangle(r, broadcast_run3<T>(tri, kV0, j), broadcast_run3<T>(tri, kV1, j),
-                              broadcast_run3<T>(tri, kV2, j), broadcast_run3<T>(tri, kNormal, j), hit, tbest);
+                              broadcast_run3<T>(tri, kV2, j), hit, tbest);
 }
 
 // Sphere k; `near`: which root is the hit (sphere_hit).
@@ -70,7 +70,8 @@ struct LaneRay {
             one.exit_scale = b(packet.exit_scale), one.len_d = b(packet.len_d);
             lane = i, shear = false;
         }
-        if (need_shear && !shear) one.proj_a = b3(packet.proj_a), one.proj_b = b3(packet.proj_b), shear = true;
+        if (need_shear && !shear)
+            one.proj_a = b3(packet.proj_a), one.proj_b = b3(packet.proj_b), one.proj_z = b3(packet.proj_z), shear = true;
         return one;
     }
 };
@@ -89,7 +90,7 @@ OCTRAY_HOT T test_run(const SceneData& s, const Run& run, int j, const Ray<T, P>
         static_assert(Type == PrimitiveType::triangle, "run tests: spheres and triangles");
         (void)s, (void)near;
         return intersect_triangle(one, load_run3<T>(run.tri, kV0, j), load_run3<T>(run.tri, kV1, j),
-                                  load_run3<T>(run.tri, kV2, j), load_run3<T>(run.tri, kNormal, j), hit, tbest);
+                                  load_run3<T>(run.tri, kV2, j), hit, tbest);
     }
 }
 

@@ -26,8 +26,9 @@ struct Ray {
     // reaching one, and the setup costs four IEEE divisions per ray.
     mutable Vec3<T> inv_d;   // 1 / d per axis, +-inf for a zero or subnormal component
     // Projection across the ray for triangles: (v.proj_a, v.proj_b) are v's
-    // coordinates in the plane sheared along d (Woop et al.'s Sx, Sy, kz).
-    mutable Vec3<T> proj_a, proj_b;
+    // coordinates in the plane sheared along d (Woop et al.'s Sx, Sy, kz);
+    // v.proj_z is v's depth along the ray (v_kz / d_kz, their Sz), in units of d.
+    mutable Vec3<T> proj_a, proj_b, proj_z;
 };
 
 // Smallest and largest d.d a ray may have: 1/(d.d) and d.d must both be normal
@@ -65,7 +66,7 @@ inline void make_slabs(const Ray<T, P>& r) {
     r.inv_d = {inv_axis(r.d.x), inv_axis(r.d.y), inv_axis(r.d.z)};
 }
 
-// The triangle test's shear (Ray::proj_a, proj_b): along the dominant axis
+// The triangle test's shear (Ray::proj_a, proj_b, proj_z): along the dominant axis
 // kz of d (kx, ky the next two, cyclic), proj_a = e_kx - (d_kx / d_kz) e_kz,
 // proj_b = e_ky - (d_ky / d_kz) e_kz, both orthogonal to d; |d_kz| >= |d| /
 // sqrt(3), so the ratios are <= 1.
@@ -82,6 +83,7 @@ inline void make_shear(const Ray<T, P>& r) {
                 lane::select(zx, zero, lane::select(zy, one, msx))};
     r.proj_b = {lane::select(zx, msy, lane::select(zy, one, zero)), lane::select(zx, zero, lane::select(zy, msy, one)),
                 lane::select(zx, one, lane::select(zy, zero, msy))};
+    r.proj_z = {lane::keep(zx, inv_dz), lane::keep(zy, inv_dz), lane::keep(lane::not_(zx || zy), inv_dz)};
 }
 
 // Loads lanes [lane, lane + width) and masks off what no kernel can trace:
