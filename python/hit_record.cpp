@@ -275,7 +275,7 @@ void HitRecorder::write(const HitChunk& c) const noexcept {
     store_out(out_.t + r, c.t, count);
     store_out(out_.primitive + r, c.primitive, count);
     alignas(64) float normal[HitChunk::kRays][3];
-    for (std::size_t i = 0; i < count; ++i) normal[i][0] = c.nx[i], normal[i][1] = c.ny[i], normal[i][2] = c.nz[i];
+    for (int i = 0; i < HitChunk::kRays; ++i) normal[i][0] = c.nx[i], normal[i][1] = c.ny[i], normal[i][2] = c.nz[i];
     store_out(out_.normal + 3 * r, &normal[0][0], 3 * count);
     hit_records(s_, c, out_);
 }
