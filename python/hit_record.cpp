@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <type_traits>
 #include <variant>
 
@@ -197,12 +198,13 @@ void HitRecorder::push(const RayPacket8& rays, const HitPacket8& hits, int lanes
     // only the last packet of all has fewer than 8); settle_misses gives the
     // misses their values.
     const int k = c.count;
-    for (int i = 0; i < 8; ++i) {  // (a loop, not std::copy_n: GCC calls memmove for those)
-        c.ox[k + i] = rays.ox[i], c.oy[k + i] = rays.oy[i], c.oz[k + i] = rays.oz[i];
-        c.dx[k + i] = rays.dx[i], c.dy[k + i] = rays.dy[i], c.dz[k + i] = rays.dz[i];
-        c.t[k + i] = hits.t[i], c.primitive[k + i] = hits.primitive[i], c.hit[k + i] = hits.hit[i];
-        c.nx[k + i] = hits.nx[i], c.ny[k + i] = hits.ny[i], c.nz[k + i] = hits.nz[i];
-    }
+    // memcpy of a constant 32 bytes: one vector move each (a loop of element
+    // copies stays scalar, the compiler unsure the arrays do not overlap).
+    auto copy8 = [](auto* to, const auto* from) { std::memcpy(to, from, 8 * sizeof *from); };
+    copy8(c.ox + k, rays.ox), copy8(c.oy + k, rays.oy), copy8(c.oz + k, rays.oz);
+    copy8(c.dx + k, rays.dx), copy8(c.dy + k, rays.dy), copy8(c.dz + k, rays.dz);
+    copy8(c.t + k, hits.t), copy8(c.primitive + k, hits.primitive), copy8(c.hit + k, hits.hit);
+    copy8(c.nx + k, hits.nx), copy8(c.ny + k, hits.ny), copy8(c.nz + k, hits.nz);
     c.count += lanes;
     if (c.count + 8 > HitChunk::kRays) complete();
 }
@@ -256,14 +258,21 @@ void HitRecorder::find_meshes(HitChunk& c) const noexcept {
 void HitRecorder::find_vertices(HitChunk& c) const noexcept {
     const PrimitiveMap& map = s_.primitives;
     const Scene& scene = *s_.scene;
+    // The last mesh's arrays, looked up again only where a ray hit another.
+    std::uint32_t last = HitChunk::kNoMesh;
+    const std::uint32_t* indices = nullptr;
+    const Vec3d* vertices = nullptr;
     for (int i = 0; i < HitChunk::kRays; ++i) {
         if (c.mesh[i] == HitChunk::kNoMesh) {
             for (int k = 0; k < 3; ++k) c.vertex[k][i] = &kStandIn[k];
             continue;
         }
-        const Mesh& mesh = scene.meshes[c.mesh[i]];
-        const std::uint32_t* tri = &mesh.indices[3 * std::size_t(c.local[i])];
-        for (int k = 0; k < 3; ++k) prefetch(c.vertex[k][i] = &mesh.vertices[tri[k]]);
+        if (c.mesh[i] != last) {
+            last = c.mesh[i];
+            indices = scene.meshes[last].indices.data(), vertices = scene.meshes[last].vertices.data();
+        }
+        const std::uint32_t* tri = indices + 3 * std::size_t(c.local[i]);
+        for (int k = 0; k < 3; ++k) prefetch(c.vertex[k][i] = vertices + tri[k]);
         if (map.any_faces && !map.mesh_faces[c.mesh[i]].empty())
             c.primitive_id[i] = std::int32_t(map.mesh_faces[c.mesh[i]][c.local[i]]);
     }

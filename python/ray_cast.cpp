@@ -159,10 +159,31 @@ void fill_interval(const Interval& in, std::size_t base, int lanes, float* out, 
     std::fill(out + lanes, out + 8, idle);
 }
 
+// Rays base .. base+7 of C-contiguous (N, 3) arrays of T: a fixed stride, so
+// the compiler deinterleaves with vector shuffles.
+template <class T>
+void pack_contiguous(const Vec3Array& a, std::size_t base, float* x, float* y, float* z) {
+    const T* src = reinterpret_cast<const T*>(a.base) + 3 * base;
+    for (int i = 0; i < 8; ++i) x[i] = float(src[3 * i]), y[i] = float(src[3 * i + 1]), z[i] = float(src[3 * i + 2]);
+}
+
+template <class T>
+bool contiguous(const Vec3Array& a) {
+    return a.s1 == py::ssize_t(sizeof(T)) && a.s0 == py::ssize_t(3 * sizeof(T));
+}
+
 template <class TO, class TD>
 int pack(const RayInput& in, std::size_t p, RayPacket8& rp) {
     const std::size_t base = p * 8;
     const int lanes = int(std::min<std::size_t>(8, in.n - base));
+    if (lanes == 8 && contiguous<TO>(in.o) && contiguous<TD>(in.d)) {  // most calls: numpy's default layout
+        pack_contiguous<TO>(in.o, base, rp.ox, rp.oy, rp.oz);
+        pack_contiguous<TD>(in.d, base, rp.dx, rp.dy, rp.dz);
+        for (int i = 0; i < 8; ++i) rp.active[i] = 1, rp.pixel[i] = std::int32_t(base + std::size_t(i));
+        fill_interval(in.tmin, base, 8, rp.tmin, 0.0f);
+        fill_interval(in.tmax, base, 8, rp.tmax, kInf);
+        return 8;
+    }
     for (int i = 0; i < lanes; ++i) {
         const std::size_t r = base + std::size_t(i);
         rp.ox[i] = in.o.get<TO>(r, 0), rp.oy[i] = in.o.get<TO>(r, 1), rp.oz[i] = in.o.get<TO>(r, 2);
