@@ -71,7 +71,7 @@ int intersect_spheres(const PacketScene& scene, const RayPacket8& rp, HitPacket8
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const SphereArrays& a = s.spheres;
     Closest<T> best{r.tmax, T(-1)};
-    for_each_candidate<true, kSphere>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, kSphere>(s, r, r.valid, best.t, [&](auto, int k, const Run&) OCTRAY_HOT_LAMBDA {
         M hit;
         M near;
         const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit,
@@ -108,7 +108,7 @@ int intersect_spheres_planes(const PacketScene& scene, const RayPacket8& rp, Hit
     const SphereArrays& a = s.spheres;
     const PlaneArrays& b = s.planes;
     Closest<T> best{r.tmax, T(-1)};
-    for_each_candidate<true, kSphere>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, kSphere>(s, r, r.valid, best.t, [&](auto, int k, const Run&) OCTRAY_HOT_LAMBDA {
         M hit;
         M near;
         const T t = intersect_sphere(r, broadcast3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{broadcast<T>(a.radius, k)}, hit,
@@ -138,15 +138,14 @@ int intersect_triangles(const PacketScene& scene, const RayPacket8& rp, HitPacke
     const SceneData& s = scene_data(scene);
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
-    const TriangleArrays& a = s.triangles;
     Closest<T> best{r.tmax, T(-1)};
-    for_each_candidate<true, kTriangle>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, kTriangle>(s, r, r.valid, best.t, [&](auto, int k, const Run& run) OCTRAY_HOT_LAMBDA {
         M hit;
-        const T t = test_triangle(a, k, r, hit, best.t);
+        const T t = test_triangle(run.tri, k - run.k0, r, hit, best.t);
         best.take(hit, t, k);
     });
     const Lookup<T> at = hit_lookup(best);
-    store_hit(s, r, best, at(a.nx, a.ny, a.nz), hp);
+    store_hit(s, r, best, triangle_fields3(s, at, kNormal), hp);
     return masked;
 }
 
@@ -157,7 +156,7 @@ int intersect_boxes(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
     const Ray<T, P> r = load_ray<T, P>(rp, 0, masked);
     const BoxArrays& a = s.boxes;
     Closest<T> best{r.tmax, T(-1)};
-    for_each_candidate<true, kBox>(s, r, r.valid, best.t, [&](auto, int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, kBox>(s, r, r.valid, best.t, [&](auto, int k, const Run&) OCTRAY_HOT_LAMBDA {
         M hit;
         const T t = intersect_box(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit, best.t);
         best.take(hit, t, k);

@@ -294,9 +294,7 @@ std::size_t octray_bytes(const PacketScene& scene) {
     const auto& s = d.spheres;
     for (const Floats* f : {&s.cx, &s.cy, &s.cz, &s.radius, &s.cx_lo, &s.cy_lo, &s.cz_lo}) b += held(*f);
     for (const auto* q : {&s.cx_q, &s.cy_q, &s.cz_q}) b += held(*q);
-    const auto& t = d.triangles;
-    for (const Floats* f : {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz})
-        b += held(*f);
+    b += held(d.triangles.block_of);  // the blocks themselves are in the BVH's node array
     const PrimitiveOwners& o = d.owners;
     for (const Floats* f : {&o.material_of, &o.mesh_first, &o.mesh_material}) b += held(*f);
     b += d.object_of.bytes() + d.compiled_of.bytes();

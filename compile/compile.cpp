@@ -28,11 +28,17 @@ void push3(Floats& x, Floats& y, Floats& z, const Vec3d& v) { push(x, v.x), push
 void put(Floats& a, std::size_t k, double v) { a[k] = float(v); }
 void put3(Floats& x, Floats& y, Floats& z, std::size_t k, const Vec3d& v) { put(x, k, v.x), put(y, k, v.y), put(z, k, v.z); }
 
-void put_triangle(TriangleArrays& a, std::size_t k, const Triangle& t) {
-    put3(a.ax, a.ay, a.az, k, t.v0);
-    put3(a.bx, a.by, a.bz, k, t.v1);
-    put3(a.cx, a.cy, a.cz, k, t.v2);
-    put3(a.nx, a.ny, a.nz, k, normalized(cross(t.v1 - t.v0, t.v2 - t.v0)));
+// Triangle k (index within the type) into its block (TriangleBlocks), whose
+// header place_triangle_blocks wrote.
+void put_triangle(SceneData& s, std::size_t k, const Triangle& t) {
+    float* at = reinterpret_cast<float*>(s.bvh.nodes.data()) + s.triangles.block_of[k];
+    std::uint32_t k0, n;
+    std::memcpy(&k0, at, sizeof k0);
+    std::memcpy(&n, at + 1, sizeof n);
+    float* field = at + kTriangleHeader + (k - k0);
+    const Vec3d normal = normalized(cross(t.v1 - t.v0, t.v2 - t.v0));
+    for (const Vec3d& v : {t.v0, t.v1, t.v2, normal})
+        for (const double c : {v.x, v.y, v.z}) *field = float(c), field += n;
 }
 
 // Pads every array of `arrays` to a multiple of the packet width with copies
@@ -79,8 +85,6 @@ void size_arrays(SceneData& s) {
                                     &r.dual_bx, &r.dual_by, &r.dual_bz});
     auto& b = s.boxes;
     room(PrimitiveType::box, {&b.minx, &b.miny, &b.minz, &b.maxx, &b.maxy, &b.maxz});
-    auto& t = s.triangles;
-    room(PrimitiveType::triangle, {&t.ax, &t.ay, &t.az, &t.bx, &t.by, &t.bz, &t.cx, &t.cy, &t.cz, &t.nx, &t.ny, &t.nz});
 }
 
 // The centres' residuals in 16 bits (SphereArrays::cx_q..), where every one
@@ -167,7 +171,7 @@ void put_primitive(SceneData& s, std::size_t k, const Shape& shape) {
                 put3(a.minx, a.miny, a.minz, k, p.min);
                 put3(a.maxx, a.maxy, a.maxz, k, p.max);
             } else {
-                put_triangle(s.triangles, k, p);
+                put_triangle(s, k, p);
             }
         },
         shape);
@@ -254,14 +258,35 @@ Collected collect_primitives(const Scene& scene, const SceneData& s) {
     return c;
 }
 
+// Each leaf's triangles a block beside its parent node (TriangleBlocks): the
+// blocks placed, their headers written, block_of filled.
+void place_triangle_blocks(SceneData& s) {
+    constexpr int tri = int(PrimitiveType::triangle);
+    std::vector<std::uint32_t> floats(s.bvh.leaves.size(), 0);
+    for (std::size_t l = 0; l < floats.size(); ++l)
+        if (const std::uint32_t n = s.bvh.leaves[l].count[tri]; n > 0) floats[l] = kTriangleHeader + kTriangleFields * n;
+    if (std::all_of(floats.begin(), floats.end(), [](std::uint32_t f) { return f == 0; })) return;
+    bvh::place_leaf_blocks(s.bvh, floats);
+    s.triangles.block_of.resize(std::size_t(s.count[std::size_t(tri)]));
+    float* nodes = reinterpret_cast<float*>(s.bvh.nodes.data());
+    for (const bvh::Leaf& l : s.bvh.leaves) {
+        const std::uint32_t n = l.count[tri], k0 = l.begin[tri];
+        if (n == 0) continue;
+        std::memcpy(nodes + l.block, &k0, sizeof k0);
+        std::memcpy(nodes + l.block + 1, &n, sizeof n);
+        for (std::uint32_t k = k0; k < k0 + n; ++k) s.triangles.block_of[k] = l.block;
+    }
+}
+
 // The one BVH over the bounded primitives; returns its leaf order per type
 // (read once, by lay_out_primitives; not kept in the scene).
 std::vector<std::vector<std::uint32_t>> build_tree(const bvh::BuildInput& input, const CompileOptions& options,
                                                    SceneData& s) {
     s.bvh = bvh::build_bvh8(input, build_options(options));
     if (options.acceleration == CompileOptions::Acceleration::none) open_every_node(s.bvh);
+    place_triangle_blocks(s);
     // A walked tree whose leaves are all inline needs no leaf records.
-    if (s.bvh.primitive_count() > kTestAllPrimitives && bvh::every_leaf_inline(s.bvh.nodes))
+    if (s.bvh.primitive_count() > kTestAllPrimitives && bvh::every_leaf_inline(s.bvh))
         AlignedVector<bvh::Leaf>().swap(s.bvh.leaves);
     std::vector<std::vector<std::uint32_t>> order = std::move(s.bvh.order);
     s.bvh.order.clear();
@@ -300,7 +325,7 @@ void lay_out_primitives(const Scene& scene, const Collected& c, const std::vecto
             }
             const std::size_t m = std::size_t(s.owners.mesh(int(i)));
             if (!material_of.empty()) material_of[cid] = float(scene.meshes[m].material);
-            put_triangle(s.triangles, pos, reference::mesh_triangle(scene.meshes[m], i - c.first_triangle[m]));
+            put_triangle(s, pos, reference::mesh_triangle(scene.meshes[m], i - c.first_triangle[m]));
         }
     }
 }
@@ -322,8 +347,6 @@ void pad_and_narrow(SceneData& s, std::size_t total) {
     auto& r = s.rectangles;
     pad(r.cx, r.cy, r.cz, r.nx, r.ny, r.nz, r.dual_ax, r.dual_ay, r.dual_az, r.dual_bx, r.dual_by, r.dual_bz);
     pad(s.boxes.minx, s.boxes.miny, s.boxes.minz, s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
-    auto& t = s.triangles;
-    pad_for_runs(t.ax, t.ay, t.az, t.bx, t.by, t.bz, t.cx, t.cy, t.cz, t.nx, t.ny, t.nz);
     if (total == 0) {  // keep the miss lanes' id lookups in bounds for an object-free scene
         s.object_of.wide.push_back(0.0f);
         s.compiled_of.wide.push_back(0.0f);

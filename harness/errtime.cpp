@@ -68,6 +68,8 @@ ErrtimeReport measure_errtime(const Scene& scene, const ErrtimeOptions& options,
             p.kernel = k.name();
             const PacketRender warm = render_packet(k, packet, options.threads);  // warm-up; its image is checked
             p.agreement = compare(ref, warm.radiance, warm.primitive);
+            p.tolerance = mode_tolerance(precision);
+            p.within = p.agreement.within(p.tolerance);
             report.points.push_back(std::move(p));
             kernels.push_back(k);
         }
@@ -96,6 +98,10 @@ ErrtimeReport measure_errtime(const Scene& scene, const ErrtimeOptions& options,
     return report;
 }
 
+bool ErrtimeReport::all_within() const {
+    return std::all_of(points.begin(), points.end(), [](const ErrtimePoint& p) { return p.within; });
+}
+
 void mark_pareto(std::vector<ErrtimePoint>& points) {
     for (ErrtimePoint& p : points) {
         p.pareto = true;
@@ -116,16 +122,19 @@ void print_errtime_table(std::FILE* out, const ErrtimeReport& r) {
                  "%dx%d rays, single kernel per row (general variant: only the precision differs), kappa %.3g\n"
                  "ns/ray: median of the timed renders; errors against the double reference on every lane where both\n"
                  "hit the same primitive (L/S: error over the pixel's full-light radiance); front: * on the Pareto front\n"
-                 "of max rel error against ns/ray\n\n",
-                 r.width, r.height, r.kappa);
-    std::fprintf(out, "%-6s %-6s %-8s %8s %5s %9s %9s %9s %9s %9s %10s %s\n", "path", "isa", "mode", "ns/ray", "reps",
-                 "max rel", "mean rel", "p99 rel", "max ULP", "max L/S", "mismatched", "front");
+                 "of max rel error against ns/ray; bound: the mode's max L/S (verdict as verify's: within it, NaN-free,\n"
+                 "mismatched hits only on silhouettes, at most %.1f%% of lanes)\n\n",
+                 r.width, r.height, r.kappa, 100 * Tolerance().silhouette_fraction);
+    std::fprintf(out, "%-6s %-6s %-8s %8s %5s %9s %9s %9s %9s %9s %10s %5s %9s %s\n", "path", "isa", "mode", "ns/ray",
+                 "reps", "max rel", "mean rel", "p99 rel", "max ULP", "max L/S", "mismatched", "front", "bound",
+                 "verdict");
     for (const ErrtimePoint& p : r.points) {
         const Agreement& a = p.agreement;
-        std::fprintf(out, "%-6s %-6s %-8s %8.2f %5d %9.2e %9.2e %9.2e %9llu %9.2e %10llu %s\n", path_name(p.path),
-                     p.isa.c_str(), precision_name(p.precision), p.ns_per_ray, p.repetitions, a.max_rel, a.mean_rel,
-                     a.p99_rel, (unsigned long long)a.max_ulp, a.max_scaled, (unsigned long long)a.mismatched,
-                     p.pareto ? "*" : "");
+        std::fprintf(out, "%-6s %-6s %-8s %8.2f %5d %9.2e %9.2e %9.2e %9llu %9.2e %10llu %5s %9.2e %s\n",
+                     path_name(p.path), p.isa.c_str(), precision_name(p.precision), p.ns_per_ray, p.repetitions,
+                     a.max_rel, a.mean_rel, a.p99_rel, (unsigned long long)a.max_ulp, a.max_scaled,
+                     (unsigned long long)a.mismatched, p.pareto ? "*" : "", p.tolerance.scaled_error,
+                     p.within ? "ok" : "OVER BOUND");
         if (a.nonfinite) std::fprintf(out, "       %llu non-finite radiance values\n", (unsigned long long)a.nonfinite);
     }
     for (const std::string& s : r.skipped) std::fprintf(out, "not run: %s\n", s.c_str());
@@ -135,14 +144,15 @@ std::string errtime_csv(const ErrtimeReport& r) {
     std::ostringstream o;
     o.precision(6);
     o << "path,isa,mode,kernel,ns_per_ray,ns_min,ns_max,repetitions,max_rel,mean_rel,p99_rel,max_ulp,max_scaled,"
-         "mismatched,mismatched_silhouette,nonfinite,compared,lanes,kappa,pareto\n";
+         "mismatched,mismatched_silhouette,nonfinite,compared,lanes,kappa,pareto,bound,within\n";
     for (const ErrtimePoint& p : r.points) {
         const Agreement& a = p.agreement;
         o << path_name(p.path) << ',' << p.isa << ',' << precision_name(p.precision) << ",\"" << p.kernel << "\","
           << p.ns_per_ray << ',' << p.ns_min << ',' << p.ns_max << ',' << p.repetitions << ',' << a.max_rel << ','
           << a.mean_rel << ',' << a.p99_rel << ',' << a.max_ulp << ',' << a.max_scaled << ','
           << a.mismatched << ',' << a.mismatched_silhouette << ',' << a.nonfinite << ',' << a.compared << ','
-          << a.lanes << ',' << r.kappa << ',' << (p.pareto ? 1 : 0) << '\n';
+          << a.lanes << ',' << r.kappa << ',' << (p.pareto ? 1 : 0) << ',' << p.tolerance.scaled_error << ','
+          << (p.within ? 1 : 0) << '\n';
     }
     return o.str();
 }

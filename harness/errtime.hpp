@@ -30,6 +30,8 @@ struct ErrtimePoint {
     double ns_min = 0, ns_max = 0;
     int repetitions = 0;
     Agreement agreement;        // against the reference (harness/verify.hpp)
+    Tolerance tolerance;        // the mode's (mode_tolerance)
+    bool within = false;        // agreement.within(tolerance): the verdict
     bool pareto = false;        // no other point is at least as fast and strictly more accurate (max rel)
 };
 
@@ -38,6 +40,7 @@ struct ErrtimeReport {
     double kappa = 1;                     // the scene's condition (precision.hpp)
     std::vector<ErrtimePoint> points;     // one per path x mode this CPU runs
     std::vector<std::string> skipped;     // "scalar/fast14: needs AVX-512 (F+VL)" ...
+    bool all_within() const;              // every point's verdict is ok
 };
 
 // kappa = 1 + the largest t/r over (hit, point light) pairs of the

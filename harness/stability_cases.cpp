@@ -12,7 +12,8 @@
 namespace octray::stability {
 
 std::string Tracer::name() const {
-    return naive ? std::string("naive") : std::string(path_name(path)) + "/" + precision_name(precision);
+    if (naive) return "naive";
+    return std::string(path_name(path)) + "/" + precision_name(precision) + (label.empty() ? "" : " " + label);
 }
 
 std::vector<Tracer> kernel_tracers() {

@@ -42,7 +42,11 @@ struct Tracer {
     Precision precision = Precision::exact;
     bool naive = false;  // the textbook formulation (stability_naive.cpp), for the naive count only; the
                          // sphere-frame cases run the kernels' formulation before the sphere-frame hit instead
-    std::string name() const;  // "scalar/exact", "simd/fast14", "naive"
+    // Where set, the kernel to run (its general variant) instead of
+    // select_kernel's, named by `label` (tests: the perturbed-estimate units).
+    Kernel (*kernel)(Precision) = nullptr;
+    std::string label = {};
+    std::string name() const;  // "scalar/exact", "simd/fast14", "naive", "simd/approx +limit"
 };
 
 // Every path × precision mode precision.hpp lists (kPrecisions), scalar first.

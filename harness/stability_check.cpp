@@ -164,7 +164,9 @@ bool debug() {
 
 Traced run(const Tracer& tr, const Scene& scene, const std::vector<Lane>& lanes, bool flush) {
     const PacketScene ps = compile(scene);
-    Kernel k = tr.naive ? general_kernel(Path::scalar) : select_kernel(ps, tr.path, tr.precision);
+    Kernel k = tr.naive    ? general_kernel(Path::scalar)
+               : tr.kernel ? tr.kernel(tr.precision)
+                           : select_kernel(ps, tr.path, tr.precision);
     Traced out;
     out.flush = flush;
     out.eps = tr.naive ? kUnitRoundoff : mode_eps(k.precision);

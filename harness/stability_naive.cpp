@@ -129,10 +129,11 @@ int naive_intersect(const PacketScene& scene, const RayPacket8& rp, HitPacket8& 
                 (face / 2 == 0 ? nn.x : face / 2 == 1 ? nn.y : nn.z) = face % 2 == 0 ? -1.0f : 1.0f;
                 take(t, s.offset[4] + k, nn);
             }
-            const TriangleArrays& ta = s.triangles;
+            auto field3 = [&](int k, int f) {
+                return V{triangle_field(s, k, f), triangle_field(s, k, f + 1), triangle_field(s, k, f + 2)};
+            };
             for (int k = 0; k < s.count[5]; ++k)
-                take(triangle(o, d, at(ta.ax, ta.ay, ta.az, k), at(ta.bx, ta.by, ta.bz, k), at(ta.cx, ta.cy, ta.cz, k)),
-                     s.offset[5] + k, at(ta.nx, ta.ny, ta.nz, k));
+                take(triangle(o, d, field3(k, kV0), field3(k, kV1), field3(k, kV2)), s.offset[5] + k, field3(k, kNormal));
         }
         if (dot(n, d) > 0) n = n * -1.0f;
         const bool hit = cid >= 0;

@@ -2,8 +2,8 @@
 // mode: a sheet of triangles 0.02 above a triangle floor, lit by a low
 // directional light, so that floor points beside the sheet lie in its shadow
 // with the blocker 0.02 above them. Every mode must decide those lanes as the
-// reference does: the estimate modes shade from an IEEE hit point with exact's
-// shadow offset (kernels/shading/shade.hpp, ieee_hit_point).
+// reference does: the estimate modes shade from exact's hit point (every
+// primitive test's t is IEEE) with exact's shadow offset (precision.hpp).
 #include "stability_check.hpp"
 
 #include "reference/reference_parts.hpp"

@@ -191,6 +191,13 @@ Agreement compare(const ReferenceRender& ref, const Image<float>& radiance, cons
     return a;
 }
 
+Tolerance mode_tolerance(Precision p) {
+    const double e = rsqrt_bound(p);
+    Tolerance tol;
+    tol.scaled_error += (1 + e) * (1 + e) * (1 + e) - 1;
+    return tol;
+}
+
 bool Agreement::within(const Tolerance& tol) const {
     return nonfinite == 0 && max_scaled <= tol.scaled_error && mismatched == mismatched_silhouette &&
            double(mismatched) <= tol.silhouette_fraction * double(lanes);

@@ -65,6 +65,15 @@ struct Tolerance {
     double silhouette_fraction = 0.005;  // mismatched hits allowed, as a fraction of lanes, all on silhouettes
 };
 
+// The tolerance a precision mode is held to on a whole image (`octray
+// errtime`'s verdict, tests/test_scene_bounds.cpp): verify's, which covers
+// exact's rounding and the sphere term at the scenes' sizes, plus what the
+// mode's 1/sqrt adds. Its estimates enter only the point lights' shading
+// (precision.hpp, "Where the modes differ"): n.l = (n.v)/|v| once, an
+// attenuated light's 1/r^2 twice more, so each light's term is off by at most
+// (1 + E)^3 - 1 of its share of S, E = rsqrt_bound(mode).
+Tolerance mode_tolerance(Precision p);
+
 struct Agreement {
     std::uint64_t lanes = 0;             // pixels
     std::uint64_t compared = 0;          // pixels where both hit the same primitive (or both missed)

@@ -53,14 +53,26 @@ struct DiskArrays { Floats cx, cy, cz, nx, ny, nz, radius2; };
 // p = corner + s a + t b; s = (p - corner).dual_a, t = (p - corner).dual_b.
 struct RectangleArrays { Floats cx, cy, cz, nx, ny, nz, dual_ax, dual_ay, dual_az, dual_bx, dual_by, dual_bz; };
 struct BoxArrays { Floats minx, miny, minz, maxx, maxy, maxz; };
-// Triangles, meshes' and single ones alike, laid out per triangle: the three
-// vertices (as given: the watertight test works in ray-relative space) and
-// the unit normal. A leaf's triangles are one run of these arrays, so one ray
-// tests 8 of them with contiguous loads (no index gathers); the arrays carry
-// a packet width of padding past the last run for those loads.
-struct TriangleArrays {
-    Floats ax, ay, az, bx, by, bz, cx, cy, cz;  // vertices v0, v1, v2
-    Floats nx, ny, nz;
+// Triangles, meshes' and single ones alike, live in the BVH's node array,
+// one block a leaf beside the leaf's parent node (bvh::place_leaf_blocks):
+// a header (the leaf's first index k0 within the type, and its count n, as
+// 32-bit integers), then kTriangleFields fields of n floats each, so field f
+// of the leaf's j-th triangle is data[f n + j]: the vertices v0, v1, v2 (as
+// given: the watertight test works in ray-relative space) and the unit
+// normal. One ray tests a leaf's triangles side by side with contiguous
+// loads from a few lines; block_of[k] finds triangle k's block (for the hit
+// record and the shading of estimate modes, once per hit lane).
+inline constexpr int kTriangleHeader = 2;
+inline constexpr int kTriangleFields = 12;
+enum TriangleField { kV0 = 0, kV1 = 3, kV2 = 6, kNormal = 9 };
+struct TriangleBlocks {
+    AlignedVector<std::uint32_t> block_of;  // per triangle: its block's float offset into Bvh8::nodes
+};
+
+// A leaf's triangles: field f of the j-th is data[f * n + j].
+struct TriangleRun {
+    const float* data;
+    int n;
 };
 
 // A map between ids (compiled <-> primitive), read once per hit lane: in 16
@@ -157,7 +169,7 @@ struct SceneData {
     DiskArrays disks;
     RectangleArrays rectangles;
     BoxArrays boxes;
-    TriangleArrays triangles;
+    TriangleBlocks triangles;
     IdMap object_of;    // compiled id -> primitive id (scene.hpp)
     IdMap compiled_of;  // primitive id -> compiled id (shading finds a sphere hit's centre)
     PrimitiveOwners owners;  // a hit's mesh and material, from its primitive (or compiled) id
@@ -181,6 +193,27 @@ struct SceneData {
 
 // The layout a compiled scene holds, for the kernels, the tools and the
 // tests; not part of the public API (PacketScene keeps it private).
+// The BVH's node array as floats: where the triangle blocks are.
+inline const float* node_floats(const SceneData& s) { return reinterpret_cast<const float*>(s.bvh.nodes.data()); }
+
+// The block of a leaf whose triangles begin at float offset `block`.
+inline TriangleRun triangle_run(const SceneData& s, std::uint32_t block) {
+    const float* at = node_floats(s) + block;
+    std::uint32_t n;
+    std::memcpy(&n, at + 1, sizeof n);
+    return {at + kTriangleHeader, int(n)};
+}
+
+// Field f (TriangleField) of triangle k (index within the type), component c.
+inline float triangle_field(const SceneData& s, int k, int f) {
+    const std::uint32_t block = s.triangles.block_of[std::size_t(k)];
+    const float* at = node_floats(s) + block;
+    std::uint32_t k0, n;
+    std::memcpy(&k0, at, sizeof k0);
+    std::memcpy(&n, at + 1, sizeof n);
+    return at[kTriangleHeader + std::size_t(f) * n + (std::uint32_t(k) - k0)];
+}
+
 struct SceneAccess {
     static const SceneData& of(const PacketScene& scene) noexcept { return *scene.data_; }
 };

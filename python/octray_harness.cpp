@@ -168,6 +168,9 @@ py::list errtime(const SceneHandle& s, int threads, int min_repetitions, int max
         d["ns_max"] = p.ns_max;
         d["repetitions"] = p.repetitions;
         d["pareto"] = p.pareto;
+        d["bound"] = p.tolerance.scaled_error;  // as `octray errtime`'s bound and verdict columns
+        d["pass"] = p.within;
+        d["verdict"] = p.within ? "ok" : "OVER BOUND";
         d["kappa"] = r.kappa;
         d["width"] = r.width;
         d["height"] = r.height;

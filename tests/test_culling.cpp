@@ -54,7 +54,7 @@ TEST_CASE("BVH culling: scenes of hundreds of primitives agree with the referenc
     const SceneData& data = scene_data(ps);
     REQUIRE(!data.bvh.empty());
     std::vector<int> seen(std::size_t(ps.primitive_count()), 0);
-    for (const bvh::Node8& node : data.bvh.nodes)  // each leaf as the walks find it (its record may be released)
+    bvh::for_each_node(data.bvh, [&](const bvh::Node8& node) {  // each leaf as the walks find it (its record may be released)
         for (int c = 0; c < bvh::kWidth; ++c) {
             if (node.child[c] >= 0 || node.child[c] == bvh::kEmptySlot) continue;
             bvh::Leaf scratch;
@@ -63,6 +63,7 @@ TEST_CASE("BVH culling: scenes of hundreds of primitives agree with the referenc
                 for (std::uint32_t k = leaf.begin[type]; k < leaf.begin[type] + leaf.count[type]; ++k)
                     ++seen[std::size_t(data.offset[std::size_t(type)]) + k];
         }
+    });
     for (int type = 0; type < kPrimitiveTypeCount; ++type)
         for (int k = 0; k < data.count[std::size_t(type)]; ++k) {
             CAPTURE(type);

@@ -1,5 +1,6 @@
 // tools/cmd_errtime.cpp — `octray errtime SCENE [--csv F] [--plot F.svg]`:
-// error against run time for every path x precision mode this CPU runs.
+// error against run time for every path x precision mode this CPU runs;
+// exit 1 when a mode is over its bound (harness/verify.hpp, mode_tolerance).
 // The plot is tools/plot.py's (matplotlib), drawn from the CSV.
 #include "commands.hpp"
 #include "errtime.hpp"
@@ -68,6 +69,11 @@ int run_errtime(const ErrtimeArgs& args) {
         if (args.csv.empty()) write_text(temp.emplace().path(), csv);
         run_plot_script({"errtime", temp ? temp->path() : args.csv, args.plot, "--title", "octray errtime: " + args.scene},
                         "--plot " + args.plot);
+    }
+    // Written first, then judged: a failing run still leaves its CSV and plot.
+    if (!report.all_within()) {
+        std::printf("OVER BOUND: a mode's error is over its bound (verdict column)\n");
+        return kExitFailed;
     }
     return kExitOk;
 }

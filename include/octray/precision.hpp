@@ -18,6 +18,15 @@
 //   f64       8 double lanes, IEEE; float only at   2^-24 + 2^-51  2^-24 + 2^-51  (double result
 //             the packet interface                                                   rounded to float)
 //
+// Where the modes differ. Whatever decides which primitive a ray hits is
+// IEEE in every mode: the box test's slab reciprocals, the t of planes,
+// disks, rectangles and triangles, and the sphere's root c/q
+// (kernels/trace/ray.hpp, kernels/geometry/), as are the BVH walks'
+// reciprocals and 1/(d.d). So the modes differ in the shading's point lights
+// (1/|v|, n.l, 1/r^2) and the tone map's reciprocal only; their hits, t and
+// normals are exact's, and a shadow ray toward a point light ends at the
+// light's own t (kernels/shading/shade.hpp). Why: docs/accuracy.md.
+//
 // Composite bounds (every mode; the functions below): normalize(v) and n.l
 // within normalize_bound; a sphere hit's unit normal within
 // sphere_normal_bound(cos) = u (16 + 4 / cos); a whole render's radiance
@@ -95,8 +104,8 @@ inline constexpr double ndotl_bound(Precision p) { return normalize_bound(p); }
 // lit surface never shadows itself (no "shadow acne"). A sphere's hit point
 // c + R n carries no t-sized error: there relative to |p| alone.
 // (The kernels use the larger of this and 1e-4 |p|.)
-// The hit point is IEEE in every mode: the estimate modes recompute it with an
-// IEEE division before shading (kernels/shading/shade.hpp, ieee_hit_point), so their
+// The hit point is IEEE in every mode: the primitive tests divide exactly in
+// every mode (see "Where the modes differ" above), so the estimate modes'
 // point carries exact's error and their shadow rays take exact's offset. An
 // offset scaled to the estimate's own error (8 * 1.5 * 2^-12 (|p| + t) for
 // approx) lifted the ray past nearby geometry (a crease, a thin wall) and

@@ -59,15 +59,32 @@ inline Mask<T> run_lanes(int n) {
     return load<T>(kIota, 0) < T(float(n));
 }
 
-// The boxes of primitives k .. k + width - 1 of a kRunTested type, in the
-// lanes, each at least the tree's box of that primitive (box_of in
-// compile/compile.cpp: the float data's box widened by 2^-20 of its size and
-// position). These are widened by 2^-18 of the same, which covers that and
-// the rounding of this float arithmetic (a few 2^-24).
+// A leaf's primitives of one type: indices k0 .. k0 + n - 1 within the
+// type; a triangle run also has its block (TriangleRun), beside the leaf's
+// parent node.
+struct Run {
+    int k0, n;
+    TriangleRun tri;
+};
+
+// Three fields (f, f + 1, f + 2) of a triangle run's triangles j .. j +
+// width - 1, in the lanes.
+template <class T>
+inline Vec3<T> load_run3(const TriangleRun& tri, int f, int j) {
+    const float* at = tri.data + std::size_t(f) * std::size_t(tri.n) + std::size_t(j);
+    return {load<T>(at, 0), load<T>(at + tri.n, 0), load<T>(at + 2 * tri.n, 0)};
+}
+
+// The boxes of a run's primitives j .. j + width - 1 (a kRunTested type), in
+// the lanes, each at least the tree's box of that primitive (box_of in
+// compile/primitive_bounds.cpp: the float data's box widened by 2^-20 of its
+// size and position). These are widened by 2^-18 of the same, which covers
+// that and the rounding of this float arithmetic (a few 2^-24).
 template <PrimitiveType Type, class T>
-OCTRAY_HOT void run_boxes(const SceneData& s, int k, T lo[3], T hi[3]) {
+OCTRAY_HOT void run_boxes(const SceneData& s, const Run& run, int j, T lo[3], T hi[3]) {
     if constexpr (Type == PrimitiveType::sphere) {
         const SphereArrays& a = s.spheres;
+        const int k = run.k0 + j;
         const T c[3] = {load<T>(a.cx.data(), k), load<T>(a.cy.data(), k), load<T>(a.cz.data(), k)};
         const T r = load<T>(a.radius.data(), k);
         const T far = lane::max(lane::max(lane::abs(c[0]), lane::abs(c[1])), lane::abs(c[2]));
@@ -75,12 +92,13 @@ OCTRAY_HOT void run_boxes(const SceneData& s, int k, T lo[3], T hi[3]) {
         for (int i = 0; i < 3; ++i) lo[i] = c[i] - half, hi[i] = c[i] + half;
     } else {
         static_assert(Type == PrimitiveType::triangle, "run tests: spheres and triangles");
-        const TriangleArrays& a = s.triangles;
-        const Floats* v[3][3] = {{&a.ax, &a.bx, &a.cx}, {&a.ay, &a.by, &a.cy}, {&a.az, &a.bz, &a.cz}};
+        (void)s;
+        const Vec3<T> p = load_run3<T>(run.tri, kV0, j), q = load_run3<T>(run.tri, kV1, j),
+                      w = load_run3<T>(run.tri, kV2, j);
+        const T* v[3][3] = {{&p.x, &q.x, &w.x}, {&p.y, &q.y, &w.y}, {&p.z, &q.z, &w.z}};
         T size(0), far(0);
         for (int i = 0; i < 3; ++i) {
-            const T p = load<T>(v[i][0]->data(), k), q = load<T>(v[i][1]->data(), k), w = load<T>(v[i][2]->data(), k);
-            lo[i] = lane::min(lane::min(p, q), w), hi[i] = lane::max(lane::max(p, q), w);
+            lo[i] = lane::min(lane::min(*v[i][0], *v[i][1]), *v[i][2]), hi[i] = lane::max(lane::max(*v[i][0], *v[i][1]), *v[i][2]);
             size = lane::max(size, hi[i] - lo[i]);
             far = lane::max(far, lane::max(lane::abs(lo[i]), lane::abs(hi[i])));
         }
@@ -93,15 +111,16 @@ OCTRAY_HOT void run_boxes(const SceneData& s, int k, T lo[3], T hi[3]) {
 // culled against the hull first (run_boxes, bvh::hull_boxes).
 inline constexpr int kHullCullRun = 2;
 
-// Calls test(TypeTag<type>{}, k) for every primitive k (index within its
-// type) of every leaf some valid lane of r may reach before its `limit`:
-// `closest` walks nearest first and re-reads limit (the caller's best t) after
-// each leaf; otherwise (any hit) the walk re-reads `active` and ends when no
-// lane is left. The box and triangle tests' per-ray setup is made the first
-// time a leaf holds such a primitive: most packets of most scenes reach none.
+// Calls test(TypeTag<type>{}, k, run) for every primitive k (index within
+// its type) of every leaf some valid lane of r may reach before its `limit`,
+// run being the leaf's primitives of that type (Run): `closest` walks nearest
+// first and re-reads limit (the caller's best t) after each leaf; otherwise
+// (any hit) the walk re-reads `active` and ends when no lane is left. The box
+// and triangle tests' per-ray setup is made the first time a leaf holds such
+// a primitive: most packets of most scenes reach none.
 // Where a packet's leaf is visited by one lane alone (bvh::LaneOf) and the
-// type is kRunTested, test_run(TypeTag<type>{}, k0, n, lane) tests that
-// lane's ray against primitives k0 .. k0 + n - 1 instead (SIMD lanes only).
+// type is kRunTested, test_run(TypeTag<type>{}, run, lane) tests that lane's
+// ray against the run's primitives instead (SIMD lanes only).
 template <bool Closest, unsigned F, class T, Precision P, class Test, class TestRun = NoRunTest>
 OCTRAY_HOT void for_each_candidate(const SceneData& s, const Ray<T, P>& r, const Mask<T>& active, const T& limit,
                                    Test&& test, TestRun&& test_run = {}) {
@@ -117,24 +136,26 @@ OCTRAY_HOT void for_each_candidate(const SceneData& s, const Ray<T, P>& r, const
             if constexpr (type == PrimitiveType::triangle)
                 if (!shear) make_shear(r), shear = true;
         };
-        // run(tag, k0, n) for each type's run of leaf l, after its setup.
-        auto each_run = [&](const bvh::Leaf& l, auto&& run) OCTRAY_HOT_LAMBDA {
+        // body(tag, run) for each type's run of leaf l, after its setup.
+        auto each_run = [&](const bvh::Leaf& l, auto&& body) OCTRAY_HOT_LAMBDA {
             for_each_bounded_type<F>([&](auto tag) OCTRAY_HOT_LAMBDA {
                 constexpr PrimitiveType type = decltype(tag)::value;
                 const int n = l.count[int(type)];
                 if (n == 0) return;
                 setup(tag);
-                run(tag, int(l.begin[int(type)]), n);
+                Run run{int(l.begin[int(type)]), n, {nullptr, 0}};
+                if constexpr (type == PrimitiveType::triangle) run.tri = triangle_run(s, l.block);
+                body(tag, run);
             });
         };
-        auto test_each = [&](auto tag, int k0, int n) OCTRAY_HOT_LAMBDA {
-            for (int k = k0; k < k0 + n; ++k) test(tag, k);
+        auto test_each = [&](auto tag, const Run& run) OCTRAY_HOT_LAMBDA {
+            for (int k = run.k0; k < run.k0 + run.n; ++k) test(tag, k, run);
         };
         auto packet_leaf = [&](const bvh::Leaf& l, const Mask<T>&) OCTRAY_HOT_LAMBDA { each_run(l, test_each); };
         auto lane_leaf = [&](const bvh::Leaf& l, bvh::LaneOf one) OCTRAY_HOT_LAMBDA {
-            each_run(l, [&](auto tag, int k0, int n) OCTRAY_HOT_LAMBDA {
-                if constexpr (kRuns && kRunTested<decltype(tag)::value>) test_run(tag, k0, n, one.lane);
-                else test_each(tag, k0, n);
+            each_run(l, [&](auto tag, const Run& run) OCTRAY_HOT_LAMBDA {
+                if constexpr (kRuns && kRunTested<decltype(tag)::value>) test_run(tag, run, one.lane);
+                else test_each(tag, run);
             });
         };
         // A hull walk's packet: the primitives of a run whose boxes the
@@ -142,20 +163,20 @@ OCTRAY_HOT void for_each_candidate(const SceneData& s, const Ray<T, P>& r, const
         // of neighbouring camera rays), the rest in the same order as
         // packet_leaf's.
         auto hull_leaf = [&](const bvh::Leaf& l, const Mask<T>&, const bvh::InHull& in) OCTRAY_HOT_LAMBDA {
-            each_run(l, [&](auto tag, int k0, int n) OCTRAY_HOT_LAMBDA {
+            each_run(l, [&](auto tag, const Run& run) OCTRAY_HOT_LAMBDA {
                 constexpr PrimitiveType type = decltype(tag)::value;
                 if constexpr (kRuns && kRunTested<type>) {
-                    if (n >= kHullCullRun) {
-                        for (int j = 0; j < n; j += lane::width<T>) {
+                    if (run.n >= kHullCullRun) {
+                        for (int j = 0; j < run.n; j += lane::width<T>) {
                             T lo[3], hi[3];
-                            run_boxes<type>(s, k0 + j, lo, hi);
-                            unsigned bits = bvh::hull_boxes(in.hull, in.limit, lo, hi) & lane::bits(run_lanes<T>(n - j));
-                            for (; bits != 0; bits &= bits - 1) test(tag, k0 + j + __builtin_ctz(bits));
+                            run_boxes<type>(s, run, j, lo, hi);
+                            unsigned bits = bvh::hull_boxes(in.hull, in.limit, lo, hi) & lane::bits(run_lanes<T>(run.n - j));
+                            for (; bits != 0; bits &= bits - 1) test(tag, run.k0 + j + __builtin_ctz(bits), run);
                         }
                         return;
                     }
                 }
-                test_each(tag, k0, n);
+                test_each(tag, run);
             });
         };
         auto walk = [&](auto&& leaf) OCTRAY_HOT_LAMBDA {

@@ -95,14 +95,14 @@ static_assert(sizeof(Node8) == 256, "Node8 is four cache lines");
 // A leaf: for each kind k, its primitives of kind k are positions
 // begin[k] .. begin[k] + count[k] - 1 of kind k's (reordered) arrays.
 // count[k] = 0 for a kind the leaf has none of (begin[k] is then where the
-// next leaf's run of kind k starts). 40 bytes: 8 runs of up to 255
-// primitives (leaves hold at most BuildOptions::max_leaf_size <= 255).
-// A layout of only begin[] (count = the next leaf's begin - this one's)
-// would save 8 bytes a leaf (~2 bytes a primitive) for a second cache line
-// read per leaf: not worth it.
+// next leaf's run of kind k starts). 8 runs of up to 255 primitives (leaves
+// hold at most BuildOptions::max_leaf_size <= 255). block: where the leaf's
+// own data sits beside its parent (place_leaf_blocks), as a float offset
+// into the node array; 0 where it has none.
 struct Leaf {
     std::uint32_t begin[kMaxKinds];
     std::uint8_t count[kMaxKinds];
+    std::uint32_t block = 0;
 
     int size() const {
         int n = 0;
@@ -110,6 +110,7 @@ struct Leaf {
         return n;
     }
 };
+static_assert(sizeof(Leaf) == 44, "Leaf: 8 begins, 8 counts, the block");
 
 // A leaf's one run inline, for its parent's Node8::run: begin | kind << 24 |
 // count << 27, where the leaf holds primitives of one kind only, at most 31
@@ -127,34 +128,29 @@ inline std::uint32_t leaf_run(const Leaf& l) {
 }
 
 // The leaf a walk reaches by child reference `ref` (< 0) whose parent's run
-// word is `run`: decoded into `scratch` when inline, else read from leaves.
+// word is `run`: decoded into `scratch` when inline (its block is ~ref once
+// place_leaf_blocks has run), else read from leaves.
 inline const Leaf& leaf_of(const AlignedVector<Leaf>& leaves, std::int32_t ref, std::uint32_t run, Leaf& scratch) {
     if (run == 0) return leaves[std::size_t(~ref)];
     scratch = Leaf{};
     const unsigned kind = (run >> 24) & 7u;
     scratch.begin[kind] = run & 0xffffffu;
     scratch.count[kind] = std::uint8_t(run >> 27);
+    scratch.block = std::uint32_t(~ref);
     return scratch;
 }
 
-// Whether every leaf of the tree is inline in its parent's run word (so no
-// walk reads Bvh8::leaves, and a caller that needs no leaf records may
-// release them).
-inline bool every_leaf_inline(const AlignedVector<Node8>& nodes) {
-    for (const Node8& node : nodes)
-        for (int c = 0; c < kWidth; ++c)
-            if (node.child[c] < 0 && node.child[c] != kEmptySlot && node.run[c] == 0) return false;
-    return true;
-}
-
 // The tree. nodes[0] is the root whenever there is a primitive (even one: a
-// root with a single leaf child); no primitive: no node, no leaf.
+// root with a single leaf child); no primitive: no node, no leaf. The build
+// makes nodes[] of nodes alone, depth first; place_leaf_blocks may then
+// interleave leaf data with them, so code that visits every node follows
+// the child references from the root (for_each_node), not the array.
 // Nodes and leaves in aligned arrays (kernels/lanes/aligned.hpp): every Node8 starts a
 // cache line, and a large tree sits in huge pages.
 struct Bvh8 {
     AlignedVector<Node8> nodes;
     // Leaf number l's record. A caller may release it where
-    // every_leaf_inline(nodes) (compile() does, for a tree it walks): the walks
+    // every_leaf_inline(tree) (compile() does, for a tree it walks): the walks
     // then decode each leaf from its run word; sah_cost needs the records.
     AlignedVector<Leaf> leaves;
     // order[k][position] = the caller's index (BuildInput::index_in_kind) of
@@ -221,6 +217,45 @@ struct BuildOptions {
     // same whatever the count.
     int threads = 0;
 };
+
+// Calls fn(node) for every inner node, depth first from the root (parent
+// before children, children in slot order).
+template <class Fn>
+void for_each_node(const Bvh8& tree, Fn&& fn) {
+    if (tree.empty()) return;
+    std::int32_t stack[kStackSize];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node8& node = tree.nodes[std::size_t(stack[--top])];
+        fn(node);
+        for (int c = kWidth - 1; c >= 0; --c)
+            if (node.child[c] >= 0) stack[top++] = node.child[c];
+    }
+}
+
+// Whether every leaf of the tree is inline in its parent's run word (so no
+// walk reads Bvh8::leaves, and a caller that needs no leaf records may
+// release them).
+inline bool every_leaf_inline(const Bvh8& tree) {
+    bool inline_only = true;
+    for_each_node(tree, [&](const Node8& node) {
+        for (int c = 0; c < kWidth; ++c)
+            if (node.child[c] < 0 && node.child[c] != kEmptySlot && node.run[c] == 0) inline_only = false;
+    });
+    return inline_only;
+}
+
+// Room for each leaf's own data beside its parent (Embree's leaves in the
+// BVH's memory; tinybvh's BVH8_CPU writes them after their parent): the
+// nodes re-laid out depth first, each followed by the blocks of its leaf
+// children in slot order, block_floats[l] floats for leaf number l (0: no
+// block), packed, in whole Node8 slots. Each leaf's Leaf::block is set to
+// its block's float offset into nodes[], and the reference to a leaf inline
+// in its parent (a run word) becomes ~block (leaf_of decodes it). Needs the
+// leaf records; leaves a packet width of floats of spare room at the end,
+// for whole-width loads past the last block. The walks read the same tree.
+void place_leaf_blocks(Bvh8& tree, const std::vector<std::uint32_t>& block_floats);
 
 // Builds the tree. Deterministic: the same input and options give the same
 // tree, bit for bit, on any number of threads. Throws std::invalid_argument

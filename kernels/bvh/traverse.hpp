@@ -52,10 +52,9 @@
 //   Closest<T> best{r.tmax, T(-1)};
 //   bvh::traverse_closest(tree, view, r.valid, best.t, leaf_fn);
 // make_ray_view divides (IEEE, whatever the precision mode: an estimate's
-// 2^-12 error in 1/d would move slab t's by more than the slack); Ray's
-// inv_d (make_slabs) uses rcp<P> and must not be used for the view in the
-// fast modes. d need not be normalized; t is in units of d, as every
-// primitive test's.
+// 2^-12 error in 1/d would move slab t's by more than the slack), as Ray's
+// inv_d (make_slabs) now does too. d need not be normalized; t is in units
+// of d, as every primitive test's.
 //
 // The parts, one header each (this one includes them all and keeps the
 // options, the packet walk, the dispatch and traverse_closest/traverse_any):

@@ -98,7 +98,9 @@ OCTRAY_HOT SphereRoots<T> sphere_roots(const Ray<T, P>& r, const Vec3<T>& f, con
     const T sd = lane::sqrt(lane::max(disc, T(0))) * r.len_d;
     const T q = (T(0) - b) - lane::with_sign_of(sd, b);
     // Stable pair q/a and c/q: never -b + sqrt(...) with the two nearly equal.
-    return {q * r.inv_dd, lane::div<P>(c, q), disc, size2};
+    // c/q is an IEEE division in every mode: from outside it is the near
+    // root, which decides the nearest primitive (a sphere on a plane).
+    return {q * r.inv_dd, c / q, disc, size2};
 }
 
 // The lanes in `huge` recomputed in units of 2^72 (see sphere_hit).

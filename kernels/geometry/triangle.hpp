@@ -55,7 +55,8 @@ OCTRAY_HOT T intersect_triangle(const Ray<T, P>& r, const Vec3<T>& a, const Vec3
     const Mask<T> inside = (lo >= T(0) || hi <= T(0)) && (lo != T(0) || hi != T(0));
     const T den = fdot(n, r.d);
     const Mask<T> facing = den != T(0);
-    const T t = lane::div<P>(fdot(n, v0), lane::select(facing, den, T(1)));
+    // IEEE in every mode: t decides the nearest primitive (intersect_plane).
+    const T t = fdot(n, v0) / lane::select(facing, den, T(1));
     hit = inside && facing && t > r.tmin && t < tbest;
     return t;
 }

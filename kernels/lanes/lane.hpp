@@ -25,6 +25,11 @@
 #if defined(__SSE__) || defined(__x86_64__)
 #include <immintrin.h>
 #endif
+// Test-only units (tests/support/perturbed_unit.cpp.in): every estimate is the IEEE
+// result moved to the limit of the instruction's specification.
+#if defined(OCTRAY_PERTURBED_ESTIMATES)
+#include "perturbed_estimates.hpp"
+#endif
 
 namespace octray::lane {
 
@@ -404,6 +409,23 @@ inline xsimd::batch<double, A> gather(const float* base, const xsimd::batch<doub
 // the others start from a hardware estimate: rcpps/rsqrtps (fast, approx) or
 // AVX-512 rcp14/rsqrt14 (fast14, approx14), refined by one Newton step in
 // the fast modes.
+// In the perturbed units these functions live in their own inline namespace,
+// so the linker never merges them with the library's of the same lane type.
+#if defined(OCTRAY_PERTURBED_ESTIMATES)
+inline namespace perturbed_estimates {
+// The instructions' specified relative error (precision.hpp's approx bounds).
+template <Precision P>
+inline constexpr double kEstimateLimit =
+    P == Precision::fast14 || P == Precision::approx14 ? rcp_bound(Precision::approx14) : rcp_bound(Precision::approx);
+template <Precision P, class T>
+inline T estimate_rcp(const T& x) {
+    return perturbed::each(x, kEstimateLimit<P>, [](float v, double e) { return perturbed::rcp(v, e); });
+}
+template <Precision P, class T>
+inline T estimate_rsqrt(const T& x) {
+    return perturbed::each(x, kEstimateLimit<P>, [](float v, double e) { return perturbed::rsqrt(v, e); });
+}
+#else
 template <Precision P, class T>
 inline T estimate_rcp(const T& x) {
     if constexpr (P == Precision::fast14 || P == Precision::approx14) return lane::rcp14_estimate(x);
@@ -414,6 +436,7 @@ inline T estimate_rsqrt(const T& x) {
     if constexpr (P == Precision::fast14 || P == Precision::approx14) return lane::rsqrt14_estimate(x);
     else return lane::rsqrt_estimate(x);
 }
+#endif
 inline constexpr bool newton_step(Precision p) { return p == Precision::fast || p == Precision::fast14; }
 
 // 1/x. Newton step r' = r (2 - x r), written r + r (1 - x r) with FMAs.
@@ -447,5 +470,8 @@ inline T rsqrt(const T& x) {
         return r;
     }
 }
+#if defined(OCTRAY_PERTURBED_ESTIMATES)
+}  // namespace perturbed_estimates
+#endif
 
 }  // namespace octray::lane

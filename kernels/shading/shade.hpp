@@ -38,80 +38,6 @@ inline Mask<T> sphere_surface_point(const SceneData& s, const T& object, const M
     return sure;
 }
 
-// The hit point of the estimate modes, recomputed with IEEE arithmetic:
-// their t carries the mode's division error (approx: 1.5 * 2^-12 t along d,
-// 0.04 units at t = 100), which the shadow-ray offset would have to cover
-// and which then lifts the ray past nearby geometry (a crease, a thin
-// wall: the shadow flips of approx on meshes). A flat primitive's hit is
-// t = (q - o).n / (d.n) for a point q of its plane (a plane's point, a
-// disk's centre, a rectangle's corner, a triangle's first vertex, the box
-// face's min or max coordinate), an IEEE division; a sphere's far from its
-// frame's point (a camera within its radius) is solved again with the
-// exact mode's test. The point then carries exact's error, and the shadow
-// ray exact's offset (precision.hpp, shadow_offset). `done`: the lanes
-// whose p already came from the sphere's frame. IEEE modes have nothing
-// to do.
-template <class T, Precision P>
-inline void ieee_hit_point(const SceneData& s, const RayPacket8& rp, int lane, const T& object, const Mask<T>& hit,
-                           const Mask<T>& done, const Vec3<T>& o, const Vec3<T>& d, const Vec3<T>& n, const T& t,
-                           Vec3<T>& p) {
-    if constexpr (is_ieee(P)) {
-        return;
-    } else {
-        const Mask<T> todo = hit && lane::not_(done);
-        if (!lane::any(todo)) return;
-        const T cid = Lookup<T>(lane::keep(todo, object), todo)(s.compiled_of);
-        Vec3<T> q{T(0), T(0), T(0)};
-        Mask<T> flat(false);
-        auto of_type = [&](PrimitiveType type, int& base) {
-            base = s.offset[int(type)];
-            const int count = s.count[int(type)];
-            if (count == 0) return Mask<T>(false);
-            return todo && cid >= T(float(base)) && cid < T(float(base + count));
-        };
-        auto take = [&](const Mask<T>& m, const Vec3<T>& v) {
-            q = {lane::select(m, v.x, q.x), lane::select(m, v.y, q.y), lane::select(m, v.z, q.z)};
-            flat = flat || m;
-        };
-        int base = 0;
-        if (const Mask<T> m = of_type(PrimitiveType::plane, base); lane::any(m))
-            take(m, Lookup<T>(lane::keep(m, cid - T(float(base))), m)(s.planes.px, s.planes.py, s.planes.pz));
-        if (const Mask<T> m = of_type(PrimitiveType::disk, base); lane::any(m))
-            take(m, Lookup<T>(lane::keep(m, cid - T(float(base))), m)(s.disks.cx, s.disks.cy, s.disks.cz));
-        if (const Mask<T> m = of_type(PrimitiveType::rectangle, base); lane::any(m))
-            take(m, Lookup<T>(lane::keep(m, cid - T(float(base))), m)(s.rectangles.cx, s.rectangles.cy, s.rectangles.cz));
-        if (const Mask<T> m = of_type(PrimitiveType::box, base); lane::any(m)) {
-            // The face's plane: per axis the nearer of min and max (n is 0 on the other two axes).
-            const Lookup<T> at(lane::keep(m, cid - T(float(base))), m);
-            const Vec3<T> lo = at(s.boxes.minx, s.boxes.miny, s.boxes.minz), hi = at(s.boxes.maxx, s.boxes.maxy, s.boxes.maxz);
-            auto nearer = [](const T& x, const T& a, const T& b) {
-                return lane::select(lane::abs(x - a) <= lane::abs(x - b), a, b);
-            };
-            take(m, {nearer(p.x, lo.x, hi.x), nearer(p.y, lo.y, hi.y), nearer(p.z, lo.z, hi.z)});
-        }
-        if (const Mask<T> m = of_type(PrimitiveType::triangle, base); lane::any(m))
-            take(m, Lookup<T>(lane::keep(m, cid - T(float(base))), m)(s.triangles.ax, s.triangles.ay, s.triangles.az));
-        if (lane::any(flat)) {
-            const T den = fdot(d, n);
-            const Mask<T> ok = flat && den != T(0);
-            const T tf = fdot(q - o, n) / lane::select(ok, den, T(1));  // IEEE in every mode
-            const Vec3<T> pf{lane::fma(d.x, tf, o.x), lane::fma(d.y, tf, o.y), lane::fma(d.z, tf, o.z)};
-            p = {lane::select(ok, pf.x, p.x), lane::select(ok, pf.y, p.y), lane::select(ok, pf.z, p.z)};
-        }
-        if (const Mask<T> m = of_type(PrimitiveType::sphere, base); lane::any(m)) {
-            const Lookup<T> at(lane::keep(m, cid - T(float(base))), m);
-            int masked = 0;
-            const Ray<T, Precision::exact> r = load_ray<T, Precision::exact>(rp, lane, masked);
-            Mask<T> again, near;
-            T ts = sphere_hit(r, at(s.spheres.cx, s.spheres.cy, s.spheres.cz), at(s.spheres.radius), again, inf<T>(), near);
-            // The same root as the kernel's (the nearer to its t); where the exact test misses, its t stays.
-            const Mask<T> ok = m && again && lane::abs(ts - t) <= T(0x1p-8f) * lane::abs(t);
-            const Vec3<T> ps{lane::fma(d.x, ts, o.x), lane::fma(d.y, ts, o.y), lane::fma(d.z, ts, o.z)};
-            p = {lane::select(ok, ps.x, p.x), lane::select(ok, ps.y, p.y), lane::select(ok, ps.z, p.z)};
-        }
-    }
-}
-
 // The lanes of `lit` whose shadow ray (shadow_ray's arguments) something
 // blocks; the ray is built in place for any_hit, which narrows it.
 template <class T, Precision P>
@@ -161,18 +87,9 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
             reach = lane::keep(lane::not_(framed), reach);
         }
     }
-    // Shadow and occlusion rays start from p: in the estimate modes, from p
-    // recomputed in IEEE arithmetic (ieee_hit_point), made on the first such
-    // ray only. Point lights' directions take p as it is: its error there is
-    // in the mode's end-to-end bound.
-    bool ieee_p = is_ieee(P);
-    [[maybe_unused]] auto ray_origin = [&]() -> const Vec3<T>& {
-        if (!ieee_p) {
-            ieee_hit_point<T, P>(s, rp, lane, load_index<T>(hp.primitive, lane), hit, framed, o, d, n, t, p);
-            ieee_p = true;
-        }
-        return p;
-    };
+    // Shadow and occlusion rays start from p. Its t is IEEE in every mode
+    // (the primitive tests divide exactly), so p is exact's in the estimate
+    // modes too, and so is the shadow ray's offset (precision.hpp, shadow_offset).
 
     Vec3<T> e{T(0), T(0), T(0)};  // sum over lights of ls*cl * n.l [/ r^2]
     if constexpr ((F & kDirectional) != 0) {
@@ -183,7 +100,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
             Mask<T> lit = hit && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
                 if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && lane::not_(shadowed<T, P>(s, ray_origin(), n, l, inf<T>(), lit, reach));
+                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, l, inf<T>(), lit, reach));
             }
             accumulate(e, lit, ndl, broadcast3<T>(a.r, a.g, a.b, k));
         }
@@ -210,8 +127,15 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
             const T ndl = fdot(n, v) * inv_r;
             Mask<T> lit = hit && apart && ndl > T(0);
             if constexpr ((F & kShadows) != 0) {
-                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit))
-                    lit = lit && lane::not_(shadowed<T, P>(s, ray_origin(), n, v * inv_r, (r2 * inv_r) * unscale, lit, reach));
+                if (a.shadows[std::size_t(k)] != 0.0f && lane::any(lit)) {
+                    // The light is at t = 1 / inv_r along v * inv_r. With an
+                    // estimate's inv_r, r2 * inv_r ends the segment (1 + e)^2
+                    // from it, up to 2^-11 r past it: a surface just behind
+                    // the light would shadow it. IEEE modes keep r2 * inv_r.
+                    T to_light = r2 * inv_r;
+                    if constexpr (!is_ieee(P)) to_light = T(1) / inv_r;
+                    lit = lit && lane::not_(shadowed<T, P>(s, p, n, v * inv_r, to_light * unscale, lit, reach));
+                }
             }
             T weight = ndl;
             if constexpr (decltype(attenuated)::value) {
@@ -236,7 +160,7 @@ inline void shade_lanes(const SceneData& s, const RayPacket8& rp, const HitPacke
         Vec3<T> ambient = material(s.ambient_r, s.ambient_g, s.ambient_b);
         // The general kernel (F = kAllFeatures) runs a scene without occlusion too: samples 0, no factor.
         if constexpr ((F & kOcclusion) != 0)
-            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F, L>(s, rp, lane, hit, ray_origin(), n, reach);
+            if (s.occlusion.samples > 0) ambient = ambient * occlusion_factor<T, P, F, L>(s, rp, lane, hit, p, n, reach);
         c += ambient;
     }
     store(out.r, lane, lane::select(hit, c.x, T(s.background[0])));

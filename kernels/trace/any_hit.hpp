@@ -18,23 +18,23 @@ inline Mask<T> any_hit(const SceneData& s, Ray<T, P>& live) {
     if constexpr ((F & kPlane) != 0) {
         for (int k = 0; k < s.count[int(PrimitiveType::plane)] && lane::any(live.valid); ++k) {
             Mask<T> hit;
-            test_primitive<PrimitiveType::plane, T, P>(s, k, live, hit, live.tmax);
+            test_primitive<PrimitiveType::plane, T, P>(s, k, Run{}, live, hit, live.tmax);
             live.valid = live.valid && lane::not_(hit);
         }
     }
     if (lane::any(live.valid))
-        for_each_candidate<false, F>(s, live, live.valid, live.tmax, [&](auto tag, int k) OCTRAY_HOT_LAMBDA {
+        for_each_candidate<false, F>(s, live, live.valid, live.tmax, [&](auto tag, int k, const Run& run) OCTRAY_HOT_LAMBDA {
             constexpr PrimitiveType type = decltype(tag)::value;
             Mask<T> hit;
-            test_primitive<type, T, P>(s, k, live, hit, live.tmax);
+            test_primitive<type, T, P>(s, k, run, live, hit, live.tmax);
             live.valid = live.valid && lane::not_(hit);
-        }, [&](auto tag, int k0, int n, int i) OCTRAY_HOT_LAMBDA {
+        }, [&](auto tag, const Run& run, int i) OCTRAY_HOT_LAMBDA {
             constexpr PrimitiveType type = decltype(tag)::value;
             const Ray<T, P>& one = lanes.at(i, type == PrimitiveType::triangle);
-            for (int j = 0; j < n; j += lane::width<T>) {
+            for (int j = 0; j < run.n; j += lane::width<T>) {
                 Mask<T> hit, near;
-                test_run<type>(s, k0 + j, one, hit, one.tmax, near);
-                if (lane::any(hit && run_lanes<T>(n - j))) {
+                test_run<type>(s, run, j, one, hit, one.tmax, near);
+                if (lane::any(hit && run_lanes<T>(run.n - j))) {
                     live.valid = live.valid && lane::not_(bvh::detail::lane_alone<T>(i));
                     return;
                 }

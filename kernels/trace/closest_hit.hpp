@@ -35,7 +35,7 @@ struct Closest {
 template <class T, Precision P, unsigned B>
 inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& best) {
     LaneRay<T, P> lanes(r);
-    for_each_candidate<true, B>(s, r, r.valid, best.t, [&](auto tag, int k) OCTRAY_HOT_LAMBDA {
+    for_each_candidate<true, B>(s, r, r.valid, best.t, [&](auto tag, int k, const Run& run) OCTRAY_HOT_LAMBDA {
         constexpr PrimitiveType type = decltype(tag)::value;
         Mask<T> hit;
         if constexpr (type == PrimitiveType::sphere) {
@@ -43,29 +43,29 @@ inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& 
             const T t = test_sphere(s, k, r, hit, best.t, near);
             best.take(hit, t, s.offset[int(type)] + k, near);
         } else {
-            const T t = test_primitive<type, T, P>(s, k, r, hit, best.t);
+            const T t = test_primitive<type, T, P>(s, k, run, r, hit, best.t);
             best.take(hit, t, s.offset[int(type)] + k);
         }
-    }, [&](auto tag, int k0, int n, int i) OCTRAY_HOT_LAMBDA {
+    }, [&](auto tag, const Run& run, int i) OCTRAY_HOT_LAMBDA {
         // Lane i alone: its ray against the run, nearest t kept, the lowest
         // index on a tie (the packet test's order: later ones must be nearer).
         constexpr PrimitiveType type = decltype(tag)::value;
         constexpr int W = lane::width<T>;
         const Ray<T, P>& one = lanes.at(i, type == PrimitiveType::triangle);
         T tbest = bvh::detail::lane_broadcast(best.t, i);
-        for (int j = 0; j < n; j += W) {
+        for (int j = 0; j < run.n; j += W) {
             Mask<T> hit, near;
-            const T t = test_run<type>(s, k0 + j, one, hit, tbest, near);
-            hit = hit && run_lanes<T>(n - j);
+            const T t = test_run<type>(s, run, j, one, hit, tbest, near);
+            hit = hit && run_lanes<T>(run.n - j);
             if (!lane::any(hit)) continue;
             tbest = T(lane::hmin(lane::select(hit, t, inf<T>())));
             const int first = __builtin_ctz(lane::bits(hit && t == tbest));
             const Mask<T> alone = bvh::detail::lane_alone<T>(i);
             if constexpr (type == PrimitiveType::sphere)
-                best.take(alone, tbest, s.offset[int(type)] + k0 + j + first,
+                best.take(alone, tbest, s.offset[int(type)] + run.k0 + j + first,
                           Mask<T>(((lane::bits(near) >> first) & 1u) != 0));
             else
-                best.take(alone, tbest, s.offset[int(type)] + k0 + j + first);
+                best.take(alone, tbest, s.offset[int(type)] + run.k0 + j + first);
         }
     });
 }
@@ -77,7 +77,7 @@ inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
         const int base = s.offset[int(PrimitiveType::plane)];
         for (int k = 0; k < s.count[int(PrimitiveType::plane)]; ++k) {
             Mask<T> hit;
-            const T t = test_primitive<PrimitiveType::plane, T, P>(s, k, r, hit, best.t);
+            const T t = test_primitive<PrimitiveType::plane, T, P>(s, k, Run{}, r, hit, best.t);
             best.take(hit, t, base + k);
         }
     }

@@ -81,7 +81,7 @@ inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Ray<T,
         return {lane::keep(ax, lane::copysign(T(1), q.x)), lane::keep(ay, lane::copysign(T(1), q.y)),
                 lane::keep(az, lane::copysign(T(1), q.z))};
     } else {
-        return at(s.triangles.nx, s.triangles.ny, s.triangles.nz);
+        return triangle_fields3(s, at, kNormal);
     }
 }
 

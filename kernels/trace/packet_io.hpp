@@ -118,6 +118,30 @@ struct Lookup {
     explicit Lookup(int k) : idx(T(float(k))), first(k), uniform(true) {}
 };
 
+// Fields f, f + 1, f + 2 (TriangleField) of the lanes' triangles (indices
+// within the type, read through `at`): from their blocks (TriangleBlocks),
+// a lane at a time where the lanes differ (once per hit lane).
+template <class T>
+inline Vec3<T> triangle_fields3(const SceneData& s, const Lookup<T>& at, int f) {
+    if (at.uniform)
+        return {T(triangle_field(s, at.first, f)), T(triangle_field(s, at.first, f + 1)),
+                T(triangle_field(s, at.first, f + 2))};
+    if constexpr (lane::width<T> == 1) {
+        const int k = int(at.idx);
+        return {T(triangle_field(s, k, f)), T(triangle_field(s, k, f + 1)), T(triangle_field(s, k, f + 2))};
+    } else {
+        using S = lane::Scalar<T>;
+        constexpr int W = lane::width<T>;
+        alignas(64) S idx[W], x[W], y[W], z[W];
+        at.idx.store_aligned(idx);
+        for (int i = 0; i < W; ++i) {
+            const int k = int(idx[i]);
+            x[i] = S(triangle_field(s, k, f)), y[i] = S(triangle_field(s, k, f + 1)), z[i] = S(triangle_field(s, k, f + 2));
+        }
+        return {T::load_aligned(x), T::load_aligned(y), T::load_aligned(z)};
+    }
+}
+
 template <class T>
 inline T fdot(const Vec3<T>& a, const Vec3<T>& b) { return lane::fma(a.x, b.x, lane::fma(a.y, b.y, a.z * b.z)); }
 

@@ -24,11 +24,18 @@ inline void for_each_primitive_type(const SceneData& s, Body&& body) {
     if constexpr ((F & kTriangle) != 0) body(TypeTag<PrimitiveType::triangle>{}, s.count[5]);
 }
 
-// Triangle k's vertices and normal, broadcast.
+// The j-th triangle of a run: three fields from f on, broadcast.
+template <class T>
+inline Vec3<T> broadcast_run3(const TriangleRun& tri, int f, int j) {
+    const float* at = tri.data + std::size_t(f) * std::size_t(tri.n) + std::size_t(j);
+    return {T(at[0]), T(at[tri.n]), T(at[2 * tri.n])};
+}
+
+// The j-th triangle of a run, its vertices and normal broadcast.
 template <class T, Precision P>
-OCTRAY_HOT T test_triangle(const TriangleArrays& a, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
-    return intersect_triangle(r, broadcast3<T>(a.ax, a.ay, a.az, k), broadcast3<T>(a.bx, a.by, a.bz, k),
-                              broadcast3<T>(a.cx, a.cy, a.cz, k), broadcast3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
+OCTRAY_HOT T test_triangle(const TriangleRun& tri, int j, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
+    return intersect_triangle(r, broadcast_run3<T>(tri, kV0, j), broadcast_run3<T>(tri, kV1, j),
+                              broadcast_run3<T>(tri, kV2, j), broadcast_run3<T>(tri, kNormal, j), hit, tbest);
 }
 
 // Sphere k; `near`: which root is the hit (sphere_hit).
@@ -68,30 +75,29 @@ struct LaneRay {
     }
 };
 
-template <class T>
-inline Vec3<T> load_run3(const Floats& x, const Floats& y, const Floats& z, int k) {
-    return {load<T>(x.data(), k), load<T>(y.data(), k), load<T>(z.data(), k)};
-}
-
-// One ray (`one`, broadcast) against primitives k .. k + width - 1 of a type,
-// in the lanes; only the lanes of run_lanes(n) count.
+// One ray (`one`, broadcast) against a run's primitives j .. j + width - 1,
+// in the lanes; only the lanes of run_lanes(run.n - j) count.
 template <PrimitiveType Type, class T, Precision P>
-OCTRAY_HOT T test_run(const SceneData& s, int k, const Ray<T, P>& one, Mask<T>& hit, const T& tbest, Mask<T>& near) {
+OCTRAY_HOT T test_run(const SceneData& s, const Run& run, int j, const Ray<T, P>& one, Mask<T>& hit, const T& tbest,
+                      Mask<T>& near) {
     if constexpr (Type == PrimitiveType::sphere) {
         const SphereArrays& a = s.spheres;
-        return intersect_sphere(one, load_run3<T>(a.cx, a.cy, a.cz, k), SphereRadius<T>{load<T>(a.radius.data(), k)},
-                                hit, tbest, near);
+        const int k = run.k0 + j;
+        const Vec3<T> c{load<T>(a.cx.data(), k), load<T>(a.cy.data(), k), load<T>(a.cz.data(), k)};
+        return intersect_sphere(one, c, SphereRadius<T>{load<T>(a.radius.data(), k)}, hit, tbest, near);
     } else {
         static_assert(Type == PrimitiveType::triangle, "run tests: spheres and triangles");
-        const TriangleArrays& a = s.triangles;
-        return intersect_triangle(one, load_run3<T>(a.ax, a.ay, a.az, k), load_run3<T>(a.bx, a.by, a.bz, k),
-                                  load_run3<T>(a.cx, a.cy, a.cz, k), load_run3<T>(a.nx, a.ny, a.nz, k), hit, tbest);
+        (void)s, (void)near;
+        return intersect_triangle(one, load_run3<T>(run.tri, kV0, j), load_run3<T>(run.tri, kV1, j),
+                                  load_run3<T>(run.tri, kV2, j), load_run3<T>(run.tri, kNormal, j), hit, tbest);
     }
 }
 
-// Tests primitive k of type `Type` (parameters broadcast from the scene arrays).
+// Tests primitive k of type `Type` (parameters broadcast from the scene
+// arrays; a triangle's from its run's block).
 template <PrimitiveType Type, class T, Precision P>
-OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
+OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Run& run, const Ray<T, P>& r, Mask<T>& hit,
+                            const T& tbest) {
     if constexpr (Type == PrimitiveType::sphere) {
         Mask<T> near;
         return test_sphere(s, k, r, hit, tbest, near);
@@ -112,7 +118,7 @@ OCTRAY_HOT T test_primitive(const SceneData& s, int k, const Ray<T, P>& r, Mask<
         return intersect_box(r, broadcast3<T>(a.minx, a.miny, a.minz, k), broadcast3<T>(a.maxx, a.maxy, a.maxz, k), hit,
                      tbest);
     } else {
-        return test_triangle(s.triangles, k, r, hit, tbest);
+        return test_triangle(run.tri, k - run.k0, r, hit, tbest);
     }
 }
 

@@ -49,14 +49,18 @@ inline void finish_ray(Ray<T, P>& r, const T& dd) {
     r.len_d = lane::sqrt(dd);
 }
 
-// The box test's slab reciprocals (Ray::inv_d). A subnormal component
-// counts as zero (signed infinity): the estimate instructions read
-// subnormals as zero and their Newton step would make inf * 0 = NaN.
+// The box test's slab reciprocals (Ray::inv_d): IEEE in every precision
+// mode. Each axis' slab t carries its reciprocal's error: with an estimate
+// (2^-12, a different error per axis) the largest entry, which decides hit
+// or miss near an edge and the face hit, would be the estimate's choice, and
+// the box's t could lose to or beat a plane it stands on. Three divisions a
+// ray, made once. A subnormal component counts as zero (signed
+// infinity), as the BVH walks' inverse_direction does.
 template <class T, Precision P>
 inline void make_slabs(const Ray<T, P>& r) {
     auto inv_axis = [](const T& c) {
         return lane::select(lane::abs(c) < T(std::numeric_limits<float>::min()), lane::copysign(inf<T>(), c),
-                            lane::rcp<P>(c));
+                            T(1) / c);
     };
     r.inv_d = {inv_axis(r.d.x), inv_axis(r.d.y), inv_axis(r.d.z)};
 }

@@ -234,7 +234,9 @@ def errtime(scene, threads=1, min_repetitions=5, max_repetitions=50, min_seconds
 
     A list of dicts, one per row: path, precision, isa, kernel, ns_per_ray
     (median), ns_min, ns_max, repetitions, pareto, the agreement numbers of
-    :meth:`Scene.verify`, and the scene's kappa, width and height.
+    :meth:`Scene.verify`, the mode's bound on max_scaled with the verdict
+    (bound, pass, verdict "ok" or "OVER BOUND", as the CLI's columns), and
+    the scene's kappa, width and height.
     """
     if not isinstance(scene, Scene):
         raise TypeError("scene: expected an octray.Scene, got " + type(scene).__name__)

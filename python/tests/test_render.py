@@ -116,6 +116,9 @@ def test_errtime_rows():
     assert {r["path"] for r in rows} == {"scalar", "simd"}
     assert all(r["ns_per_ray"] > 0 and r["repetitions"] == 5 for r in rows)
     assert any(r["pareto"] for r in rows)
+    # The verdict, as `octray errtime` prints it: every mode within its bound here.
+    assert all(r["verdict"] == "ok" and r["pass"] and r["max_scaled"] <= r["bound"] for r in rows)
+    assert all(r["bound"] < 2e-3 for r in rows)
 
 
 def test_stability_rows():
