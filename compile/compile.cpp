@@ -28,9 +28,9 @@ void push3(Floats& x, Floats& y, Floats& z, const Vec3d& v) { push(x, v.x), push
 void put(Floats& a, std::size_t k, double v) { a[k] = float(v); }
 void put3(Floats& x, Floats& y, Floats& z, std::size_t k, const Vec3d& v) { put(x, k, v.x), put(y, k, v.y), put(z, k, v.z); }
 
-// Triangle k (index within the type) into its block (TriangleBlocks), whose
-// header place_triangle_blocks wrote.
-void put_triangle(SceneData& s, std::size_t k, const Triangle& t) {
+// Triangle k (index within the type), primitive `id`, into its block
+// (TriangleBlocks), whose header place_triangle_blocks wrote.
+void put_triangle(SceneData& s, std::size_t k, const Triangle& t, std::size_t id) {
     float* at = reinterpret_cast<float*>(s.bvh.nodes.data()) + s.triangles.block_of[k];
     std::uint32_t k0, n;
     std::memcpy(&k0, at, sizeof k0);
@@ -39,6 +39,7 @@ void put_triangle(SceneData& s, std::size_t k, const Triangle& t) {
     const Vec3d normal = normalized(cross(t.v1 - t.v0, t.v2 - t.v0));
     for (const Vec3d& v : {t.v0, t.v1, t.v2, normal})
         for (const double c : {v.x, v.y, v.z}) *field = float(c), field += n;
+    *field = float(id);  // exact: compile() refuses 2^24 primitives or more
 }
 
 // Pads every array of `arrays` to a multiple of the packet width with copies
@@ -138,8 +139,8 @@ void fill_owners(const Scene& scene, const std::vector<std::size_t>& first_trian
     pad(o.mesh_material);
 }
 
-// Writes one primitive as element k of its type's arrays.
-void put_primitive(SceneData& s, std::size_t k, const Shape& shape) {
+// Writes primitive `id` as element k of its type's arrays.
+void put_primitive(SceneData& s, std::size_t k, const Shape& shape, std::size_t id) {
     std::visit(
         [&](const auto& p) {
             using P = std::decay_t<decltype(p)>;
@@ -171,7 +172,7 @@ void put_primitive(SceneData& s, std::size_t k, const Shape& shape) {
                 put3(a.minx, a.miny, a.minz, k, p.min);
                 put3(a.maxx, a.maxy, a.maxz, k, p.max);
             } else {
-                put_triangle(s, k, p);
+                put_triangle(s, k, p, id);
             }
         },
         shape);
@@ -320,12 +321,12 @@ void lay_out_primitives(const Scene& scene, const Collected& c, const std::vecto
             s.compiled_of.wide[i] = float(cid);
             if (i < object_count) {
                 if (!material_of.empty()) material_of[cid] = float(scene.objects[i].material);
-                put_primitive(s, pos, scene.objects[i].shape);
+                put_primitive(s, pos, scene.objects[i].shape, i);
                 continue;
             }
             const std::size_t m = std::size_t(s.owners.mesh(int(i)));
             if (!material_of.empty()) material_of[cid] = float(scene.meshes[m].material);
-            put_triangle(s, pos, reference::mesh_triangle(scene.meshes[m], i - c.first_triangle[m]));
+            put_triangle(s, pos, reference::mesh_triangle(scene.meshes[m], i - c.first_triangle[m]), i);
         }
     }
 }

@@ -58,13 +58,15 @@ struct BoxArrays { Floats minx, miny, minz, maxx, maxy, maxz; };
 // a header (the leaf's first index k0 within the type, and its count n, as
 // 32-bit integers), then kTriangleFields fields of n floats each, so field f
 // of the leaf's j-th triangle is data[f n + j]: the vertices v0, v1, v2 (as
-// given: the watertight test works in ray-relative space) and the unit
-// normal. One ray tests a leaf's triangles side by side with contiguous
-// loads from a few lines; block_of[k] finds triangle k's block (for the hit
-// record and the shading of estimate modes, once per hit lane).
+// given: the watertight test works in ray-relative space), the unit normal
+// and the primitive id (scene.hpp; an exact float). One ray tests a leaf's
+// triangles side by side with contiguous loads from a few lines, and the
+// closest hit keeps its winner's normal and id from the same lines (the hit
+// record reads no scene-wide table for a triangle); block_of[k] finds
+// triangle k's block for the tools that start from an index.
 inline constexpr int kTriangleHeader = 2;
-inline constexpr int kTriangleFields = 12;
-enum TriangleField { kV0 = 0, kV1 = 3, kV2 = 6, kNormal = 9 };
+inline constexpr int kTriangleFields = 13;
+enum TriangleField { kV0 = 0, kV1 = 3, kV2 = 6, kNormal = 9, kPrimitiveId = 12 };
 struct TriangleBlocks {
     AlignedVector<std::uint32_t> block_of;  // per triangle: its block's float offset into Bvh8::nodes
 };

@@ -13,6 +13,10 @@ struct Closest {
     T t;    // tmax until something is hit
     T cid;  // compiled id of the hit primitive (exact float), -1 on a miss
     Mask<T> near = Mask<T>(true);  // a sphere's hit: the near root (sphere_hit), for sphere_normal
+    // A triangle's hit: its unit normal and primitive id, from the block the
+    // test read (the hit record then reads no scene-wide table for it).
+    Vec3<T> tri_n{T(0), T(0), T(0)};
+    T tri_id = T(-1);
 
     // Keeps the lanes of `hit` (a test accepted them for t' < t) at t' and id.
     OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id) {
@@ -26,6 +30,14 @@ struct Closest {
         t = lane::select(hit, t_hit, t);
         cid = lane::select(hit, T(float(id)), cid);
         near = (hit && near_hit) || (lane::not_(hit) && near);
+    }
+    // A triangle's hit, with its normal and primitive id.
+    OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id, const Vec3<T>& n, const T& primitive) {
+        if (!lane::any(hit)) return;
+        t = lane::select(hit, t_hit, t);
+        cid = lane::select(hit, T(float(id)), cid);
+        tri_n = {lane::select(hit, n.x, tri_n.x), lane::select(hit, n.y, tri_n.y), lane::select(hit, n.z, tri_n.z)};
+        tri_id = lane::select(hit, primitive, tri_id);
     }
 };
 
@@ -42,6 +54,11 @@ inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& 
             Mask<T> near;
             const T t = test_sphere(s, k, r, hit, best.t, near);
             best.take(hit, t, s.offset[int(type)] + k, near);
+        } else if constexpr (type == PrimitiveType::triangle) {
+            const int j = k - run.k0;
+            const T t = test_triangle(run.tri, j, r, hit, best.t);
+            best.take(hit, t, s.offset[int(type)] + k, broadcast_run3<T>(run.tri, kNormal, j),
+                      T(run.tri.data[std::size_t(kPrimitiveId) * std::size_t(run.tri.n) + std::size_t(j)]));
         } else {
             const T t = test_primitive<type, T, P>(s, k, run, r, hit, best.t);
             best.take(hit, t, s.offset[int(type)] + k);
@@ -61,11 +78,14 @@ inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& 
             tbest = T(lane::hmin(lane::select(hit, t, inf<T>())));
             const int first = __builtin_ctz(lane::bits(hit && t == tbest));
             const Mask<T> alone = bvh::detail::lane_alone<T>(i);
-            if constexpr (type == PrimitiveType::sphere)
+            if constexpr (type == PrimitiveType::sphere) {
                 best.take(alone, tbest, s.offset[int(type)] + run.k0 + j + first,
                           Mask<T>(((lane::bits(near) >> first) & 1u) != 0));
-            else
-                best.take(alone, tbest, s.offset[int(type)] + run.k0 + j + first);
+            } else {
+                const int jj = j + first;
+                best.take(alone, tbest, s.offset[int(type)] + run.k0 + jj, broadcast_run3<T>(run.tri, kNormal, jj),
+                          T(run.tri.data[std::size_t(kPrimitiveId) * std::size_t(run.tri.n) + std::size_t(jj)]));
+            }
         }
     });
 }

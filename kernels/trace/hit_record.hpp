@@ -81,7 +81,8 @@ inline Vec3<T> type_normal(const SceneData& s, const Lookup<T>& at, const Ray<T,
         return {lane::keep(ax, lane::copysign(T(1), q.x)), lane::keep(ay, lane::copysign(T(1), q.y)),
                 lane::keep(az, lane::copysign(T(1), q.z))};
     } else {
-        return triangle_fields3(s, at, kNormal);
+        (void)at;
+        return best.tri_n;  // kept by the closest hit from the triangle's block
     }
 }
 
@@ -175,7 +176,16 @@ inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8&
     const Lookup<T> at(cid, hit);
     const Vec3<T> n = face_forward(s, hit_normal<T, P, F>(s, at, r, load_residual<T>(rp, lane), best, p, hit), r, best);
     store(hp.t, lane, lane::select(hit, best.t, inf<T>()));
-    const T primitive = lane::select(hit, at(s.object_of), T(-1));
+    T primitive = T(-1);
+    if constexpr ((F & kTriangle) != 0) {
+        // Triangles' ids come with the closest hit; only other hits read the map.
+        const Mask<T> tri = hit && cid >= T(float(s.offset[int(PrimitiveType::triangle)]));
+        const Mask<T> other = hit && lane::not_(tri);
+        if (lane::any(other)) primitive = lane::select(other, Lookup<T>(cid, other)(s.object_of), primitive);
+        primitive = lane::select(tri, best.tri_id, primitive);
+    } else {
+        primitive = lane::select(hit, at(s.object_of), T(-1));
+    }
     store_index(hp.primitive, lane, primitive);
     T material, mesh;
     owners_of<T, F>(s.owners, at, primitive, hit, material, mesh);
