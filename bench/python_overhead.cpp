@@ -1,6 +1,9 @@
 // bench/python_overhead.cpp — the C++ side of scripts/python-overhead: the
 // scale benchmark's height field and camera rays (scale_common.hpp), the
-// octray SIMD intersect driven from C++ over them, and Embree's
+// octray SIMD intersect driven from C++ over them into HitPacket8s (the
+// kernel's own answers, nothing derived: the Python side's Scene.intersect
+// returns every field it has, ids, barycentrics and geometric normals
+// included, and the ratio charges their cost to the binding), and Embree's
 // rtcIntersect8 / rtcIntersect1 on the same rays, one thread. Prints JSON:
 // the seconds of every timed pass (after one warm-up pass each).
 //

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstring>
 #include <new>
+#include <numeric>
 #include <vector>
 
 namespace octray::model_formats {
@@ -162,6 +163,7 @@ MeshData collect_model(const RawModel& model, const Matrix4d& user, const char* 
     std::vector<Vec3d> moved(largest);
     std::vector<bool> done(largest, false);
     std::vector<std::uint32_t> touched;
+    std::uint32_t face = 0;  // the file's triangle number (check_raw: fewer than 2^24)
     for (const RawInstance& use : model.instances) {
         const RawMesh& mesh = model.meshes[use.mesh];
         if (mesh.triangles.empty()) continue;
@@ -177,16 +179,23 @@ MeshData collect_model(const RawModel& model, const Matrix4d& user, const char* 
             }
             return moved[v];
         };
-        for (std::size_t t = 0; t + 2 < mesh.triangles.size(); t += 3) {
+        for (std::size_t t = 0; t + 2 < mesh.triangles.size(); t += 3, ++face) {
             const std::uint32_t* tri = &mesh.triangles[t];
             const Vec3d& a = position(tri[0]);
             const Vec3d& b = position(tri[1]);
             const Vec3d& c = position(tri[2]);
             const Vec3d n = cross(b - a, c - a);
             if (n.x == 0 && n.y == 0 && n.z == 0) {
+                // From the first drop on, each kept triangle records its file number
+                // (those kept before it are numbered as they stand).
+                if (out.faces.empty()) {
+                    out.faces.resize(out.indices.size() / 3);
+                    std::iota(out.faces.begin(), out.faces.end(), std::uint32_t(0));
+                }
                 ++out.dropped_degenerate;
                 continue;
             }
+            if (out.dropped_degenerate) out.faces.push_back(face);
             for (unsigned k = 0; k < 3; ++k) {
                 const std::uint32_t v = tri[k];
                 if (remap[v] == kUnset) remap[v] = shared.index_of(moved[v]);

@@ -78,8 +78,15 @@ struct MeshData {
     std::vector<std::uint32_t> indices;
     std::size_t dropped_degenerate = 0;  // zero-area triangles left out (see load_model)
     std::string format;                  // "glTF 2.0", "Wavefront OBJ", "PLY", "generated"
+    // Where each kept triangle stood among the file's, before the zero-area
+    // ones were dropped (the numbering a caller's own face array has: the
+    // Python module reports it as primitive_id). Empty when none was dropped:
+    // then triangle t is the file's triangle t, and a large model pays nothing.
+    std::vector<std::uint32_t> faces;
 
     std::size_t triangle_count() const { return indices.size() / 3; }
+    // The file's number of triangle t (see faces).
+    std::uint32_t face_of(std::size_t t) const { return faces.empty() ? std::uint32_t(t) : faces[t]; }
 };
 
 // Reads the model file at `path`. The format comes from the extension (.gltf, .glb, .obj,
@@ -90,6 +97,8 @@ struct MeshData {
 // A triangle is degenerate, and dropped and counted, when the cross product of its two
 // edges, computed in double from the transformed vertices, is exactly (0, 0, 0): repeated
 // vertices and exactly collinear ones. No relative epsilon: a thin but real triangle stays.
+// The file's triangles are numbered in this order (meshes, glTF instances in node order,
+// polygons as triangulated), counting the dropped ones: MeshData::faces.
 //
 // Throws ModelError, for example: "cannot open: No such file or directory",
 // "unknown model format '.stl' (expected .gltf, .glb, .obj or .ply)",

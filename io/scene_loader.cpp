@@ -37,7 +37,10 @@ std::string SourceMap::json_path(const std::string& scene_path, const Scene& sce
     if (head == "directional_lights") return element("lights", directional.at(i)) + rest;
     if (head == "point_lights") return element("lights", point.at(i)) + rest;
     if (head == "meshes") return element("objects", mesh.at(i)) + rest;
-    return scene_path;  // camera, background, ambient, objects, render: the same in both
+    // Scene::objects leaves the meshes out: its index k is the file's only
+    // when no mesh comes before it.
+    if (head == "objects" && i < object.size()) return element("objects", object[i]) + rest;
+    return scene_path;  // camera, background, ambient, render: the same in both
 }
 
 namespace {
@@ -162,21 +165,28 @@ RenderSettings Reader::render(const Json& j, const std::string& path) const {
     return r;
 }
 
-Scene Reader::scene(const Json& root) const {
+Scene Reader::scene(const Json& root, SceneSources* sources) const {
     expect_object(root, "");
     reject_unknown(root, "", "a scene",
                    {"camera", "background", "ambient", "lights", "materials", "objects", "render"});
     Scene s;
     SourceMap source;
-    s.camera = camera(required(root, "", "camera", "a scene"), "camera");
+    // A geometry-only scene may leave out the camera and the materials; the
+    // Scene keeps its defaults (Camera{}, one Material{}) for compile().
+    auto part = [&](const char* key) { return geometry_only_ ? optional(root, key) : &required(root, "", key, "a scene"); };
+    const Json* camera_json = part("camera");
+    if (camera_json) s.camera = camera(*camera_json, "camera");
     if (auto* v = optional(root, "background")) s.background = vec3(*v, "background");
     if (auto* v = optional(root, "ambient")) {
         s.ambient = ambient(*v, "ambient");
         if (auto* o = optional(*v, "occlusion")) s.ambient_occlusion = occlusion(*o, "ambient.occlusion");
     }
     if (auto* v = optional(root, "lights")) lights(*v, "lights", s, source);
-    s.materials = materials(required(root, "", "materials", "a scene"), "materials");
-    s.objects = objects(required(root, "", "objects", "a scene"), "objects", s.materials, s.meshes, source);
+    const Json* materials_json = part("materials");
+    if (materials_json) s.materials = materials(*materials_json, "materials");
+    s.objects = objects(required(root, "", "objects", "a scene"), "objects", materials_json ? &s.materials : nullptr,
+                        s.meshes, source);
+    if (!materials_json) s.materials.push_back(Material{});
     if (auto* v = optional(root, "render")) s.render = render(*v, "render");
     // The values: the rules every scene meets, stated once (validate()).
     try {
@@ -185,6 +195,13 @@ Scene Reader::scene(const Json& root) const {
         fail(source.json_path(e.path(), s), e.problem());
     }
     normalize_directions(s);
+    if (sources) {
+        sources->camera = camera_json != nullptr;
+        sources->materials = materials_json != nullptr;
+        sources->objects = std::move(source.object);
+        sources->meshes = std::move(source.mesh);
+        sources->mesh_faces = std::move(source.faces);
+    }
     return s;
 }
 
@@ -281,7 +298,8 @@ std::string parse_problem(const std::string& what) {
 
 namespace {
 
-Scene parse_with(const Reader& reader, const std::string& json_text, const std::string& file_name_for_messages) {
+Scene parse_with(const Reader& reader, const std::string& json_text, const std::string& file_name_for_messages,
+                 SceneSources* sources = nullptr) {
     Json root;
     PathTracker tracker(reader, root);
     try {
@@ -308,7 +326,7 @@ Scene parse_with(const Reader& reader, const std::string& json_text, const std::
                          std::to_string(line) + ", column " +
                          std::to_string(end - line_start + 1) + ": " + problem);
     }
-    return reader.scene(root);
+    return reader.scene(root, sources);
 }
 
 }  // namespace
@@ -318,11 +336,14 @@ Scene parse_scene(const std::string& json_text, const std::string& file_name_for
 }
 
 Scene parse_scene(const std::string& json_text, const std::string& name_for_messages, const std::string& base_dir,
-                  const std::map<std::size_t, MeshArrays>& arrays) {
-    return parse_with(Reader(name_for_messages, base_dir, &arrays), json_text, name_for_messages);
+                  const std::map<std::size_t, MeshArrays>& arrays, const ParseOptions& options) {
+    return parse_with(Reader(name_for_messages, base_dir, &arrays, options.geometry_only), json_text,
+                      name_for_messages, options.sources);
 }
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path) { return load_scene(path, nullptr); }
+
+Scene load_scene(const std::string& path, SceneSources* sources) {
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw SceneError(path + ": cannot open: " + std::strerror(errno));
     std::error_code ec;
@@ -339,7 +360,7 @@ Scene load_scene(const std::string& path) {
     const int err = errno;  // fopen succeeds on a directory; the read fails with EISDIR
     std::fclose(f);
     if (failed) throw SceneError(path + ": cannot read: " + std::strerror(err));
-    return parse_scene(text, path);
+    return parse_with(Reader(path), text, path, sources);
 }
 
 }  // namespace octray

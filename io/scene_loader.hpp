@@ -54,6 +54,28 @@ struct MeshArrays {
     std::vector<std::uint32_t> indices;
 };
 
+// Where a parsed scene's parts came from in the JSON, for a caller that
+// reports hits in the JSON's own terms (the Python module's geometry_id and
+// primitive_id: docs/python.md) or must know what a geometry-only scene left out.
+struct SceneSources {
+    bool camera = true;     // false: the JSON had no camera; Scene::camera is Camera{}, a placeholder
+    bool materials = true;  // false: the JSON had no materials; Scene::materials is one Material{}, every object's
+    std::vector<std::size_t> objects;  // the "objects" index of each Scene::objects entry
+    std::vector<std::size_t> meshes;   // the "objects" index of each Scene::meshes entry
+    // Per Scene mesh: the number, among the triangles its file or arrays gave,
+    // of each triangle kept (MeshData::faces); empty when none was dropped.
+    std::vector<std::vector<std::uint32_t>> mesh_faces;
+};
+
+struct ParseOptions {
+    // A scene for ray casting alone may leave out "camera" and "materials"
+    // (its objects then name no material): SceneSources says which it left
+    // out, and the Scene holds placeholders that compile() accepts. Off (the
+    // CLI's contract): both are required.
+    bool geometry_only = false;
+    SceneSources* sources = nullptr;  // filled when given
+};
+
 // A scene held in memory rather than in a file: the same reader, the same
 // rules, the same messages. `name_for_messages` prefixes them (empty: the
 // message is "JSON_PATH: problem" alone); a relative model "file" is read from
@@ -61,9 +83,16 @@ struct MeshArrays {
 // "objects" is a key of `arrays` takes its triangles from there: its JSON has
 // "vertices" and "indices" (their values are not read) and no "file"; a
 // "transform" applies as to a file. validate() then judges the arrays as any
-// mesh (finite vertices, indices in range, no zero-area triangle) and
-// reports at objects[i].vertices[v] or objects[i].indices[k].
+// mesh (finite vertices, indices in range) and reports at
+// objects[i].vertices[v] or objects[i].indices[k]; where those hold, a
+// zero-area triangle (after the transform) is dropped and counted as a model
+// file's is (Mesh::dropped_degenerate, SceneSources::mesh_faces), and a mesh
+// whose every triangle has zero area is an error at objects[i].indices.
 Scene parse_scene(const std::string& json_text, const std::string& name_for_messages, const std::string& base_dir,
-                  const std::map<std::size_t, MeshArrays>& arrays);
+                  const std::map<std::size_t, MeshArrays>& arrays, const ParseOptions& options = {});
+
+// load_scene, and where the scene's parts came from (the CLI's contract:
+// camera and materials required).
+Scene load_scene(const std::string& path, SceneSources* sources);
 
 }  // namespace octray

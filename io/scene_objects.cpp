@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cmath>
 #include <filesystem>
+#include <numeric>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -85,7 +87,7 @@ Shape Reader::shape(const Json& o, const std::string& path, PrimitiveType type) 
 }
 
 // A mesh object (docs/scene-format.md, meshes): its model file read by load_model.
-Mesh Reader::mesh(const Json& o, const std::string& opath) const {
+Mesh Reader::mesh(const Json& o, const std::string& opath, std::vector<std::uint32_t>& faces) const {
     reject_unknown(o, opath, "a mesh", {"type", "file", "material", "transform"});
     const std::string fpath = member(opath, "file");
     const std::string file = string(required(o, opath, "file", "a mesh"), fpath);
@@ -113,15 +115,17 @@ Mesh Reader::mesh(const Json& o, const std::string& opath) const {
         m.vertices = std::move(data.vertices);
         m.indices = std::move(data.indices);
         m.dropped_degenerate = data.dropped_degenerate;
+        faces = std::move(data.faces);
         return m;
     } catch (const ModelError& e) {
         fail(fpath, file + ": " + e.what());
     }
 }
 
-Mesh Reader::mesh_at(const Json& o, const std::string& opath, std::size_t index) const {
+Mesh Reader::mesh_at(const Json& o, const std::string& opath, std::size_t index,
+                     std::vector<std::uint32_t>& faces) const {
     const auto it = arrays_ ? arrays_->find(index) : decltype(arrays_->end()){};
-    if (!arrays_ || it == arrays_->end()) return mesh(o, opath);
+    if (!arrays_ || it == arrays_->end()) return mesh(o, opath, faces);
     reject_unknown(o, opath, "a mesh given as arrays", {"type", "vertices", "indices", "material", "transform"});
     required(o, opath, "vertices", "a mesh given as arrays");
     required(o, opath, "indices", "a mesh given as arrays");
@@ -134,7 +138,42 @@ Mesh Reader::mesh_at(const Json& o, const std::string& opath, std::size_t index)
             p = {t[0] * p.x + t[1] * p.y + t[2] * p.z + t[3], t[4] * p.x + t[5] * p.y + t[6] * p.z + t[7],
                  t[8] * p.x + t[9] * p.y + t[10] * p.z + t[11]};
     }
+    drop_zero_area(m, faces, opath);
     return m;
+}
+
+// Zero-area triangles of a mesh given as arrays, dropped and counted as
+// collect_model drops a model file's (the same test: an exactly zero cross
+// product of the transformed edges), so an array mesh behaves as the same
+// mesh saved to a file. Only where every index is in range and every vertex
+// finite: otherwise validate() reports the first bad one at its position in
+// the caller's arrays, which dropping would shift.
+void Reader::drop_zero_area(Mesh& m, std::vector<std::uint32_t>& faces, const std::string& opath) const {
+    const std::size_t n = m.vertices.size();
+    if (m.indices.size() % 3 != 0) return;
+    for (const Vec3d& v : m.vertices)
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return;
+    for (const std::uint32_t i : m.indices)
+        if (i >= n) return;
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+        const std::uint32_t* tri = &m.indices[3 * t];
+        const Vec3d& a = m.vertices[tri[0]];
+        const Vec3d e = cross(m.vertices[tri[1]] - a, m.vertices[tri[2]] - a);
+        if (e.x == 0 && e.y == 0 && e.z == 0) {
+            if (faces.empty()) {  // the first drop: those kept so far keep their numbers
+                faces.resize(kept);
+                std::iota(faces.begin(), faces.end(), std::uint32_t(0));
+            }
+            ++m.dropped_degenerate;
+            continue;
+        }
+        if (m.dropped_degenerate) faces.push_back(std::uint32_t(t));
+        std::copy_n(tri, 3, &m.indices[3 * kept++]);
+    }
+    if (m.dropped_degenerate && kept == 0)
+        fail(member(opath, "indices"), "no triangles (all " + std::to_string(m.dropped_degenerate) + " have zero area)");
+    m.indices.resize(3 * kept);
 }
 
 MeshTransform Reader::mesh_transform(const Json& j, const std::string& path) const {
@@ -160,7 +199,7 @@ MeshTransform Reader::mesh_transform(const Json& j, const std::string& path) con
     return t;
 }
 
-std::vector<Object> Reader::objects(const Json& j, const std::string& path, const std::vector<Material>& mats,
+std::vector<Object> Reader::objects(const Json& j, const std::string& path, const std::vector<Material>* mats,
                             std::vector<Mesh>& meshes, SourceMap& source) const {
     if (!j.is_array()) fail(path, "must be an array, got " + describe(j));
     static const std::vector<Names> fields{
@@ -168,7 +207,8 @@ std::vector<Object> Reader::objects(const Json& j, const std::string& path, cons
         {"type", "center", "normal", "radius", "material"}, {"type", "corner", "a", "b", "material"},
         {"type", "min", "max", "material"},               {"type", "vertices", "material"}};
     Names material_names;
-    for (const auto& m : mats) material_names.push_back(m.name);
+    if (mats)
+        for (const auto& m : *mats) material_names.push_back(m.name);
 
     std::vector<Object> out;
     // The primitive limit (scene.hpp) checked as meshes come in, before a
@@ -191,30 +231,39 @@ std::vector<Object> Reader::objects(const Json& j, const std::string& path, cons
         const std::string what = is_mesh ? std::string("a mesh") : std::string("a ") + primitive_type_name(type);
         Object obj;
         Mesh m;
+        std::vector<std::uint32_t> faces;
         if (is_mesh) {
-            m = mesh_at(o, opath, i);
+            m = mesh_at(o, opath, i, faces);
             count(m.triangle_count(), member(opath, optional(o, "file") ? "file" : "indices"));
         } else {
             count(1, opath);
             reject_unknown(o, opath, what, fields[static_cast<std::size_t>(type)]);
             obj.shape = shape(o, opath, type);
         }
+        // A scene without materials (geometry-only) gives each object the
+        // placeholder, material 0, unless it names one (which is unknown).
+        int material = 0;
         const std::string mpath = member(opath, "material");
-        const std::string name = string(required(o, opath, "material", what), mpath);
-        auto it = std::find(material_names.begin(), material_names.end(), name);
-        if (it == material_names.end())
-            fail(mpath, "unknown material \"" + name + "\" (" +
-                            (material_names.empty() ? std::string("no materials are defined")
-                                                    : "defined: " + join(material_names)) +
-                            ")");
+        if (mats || optional(o, "material")) {
+            const std::string name = string(required(o, opath, "material", what), mpath);
+            auto it = std::find(material_names.begin(), material_names.end(), name);
+            if (it == material_names.end())
+                fail(mpath, "unknown material \"" + name + "\" (" +
+                                (material_names.empty() ? std::string("no materials are defined")
+                                                        : "defined: " + join(material_names)) +
+                                ")");
+            material = static_cast<int>(it - material_names.begin());
+        }
         if (is_mesh) {
-            m.material = static_cast<int>(it - material_names.begin());
+            m.material = material;
             meshes.push_back(std::move(m));
             source.mesh.push_back(i);
+            source.faces.push_back(std::move(faces));
             continue;
         }
-        obj.material = static_cast<int>(it - material_names.begin());
+        obj.material = material;
         out.push_back(std::move(obj));
+        source.object.push_back(i);
     }
     return out;
 }

@@ -56,6 +56,8 @@ inline std::string describe(const Json& v) {
 struct SourceMap {
     std::vector<std::size_t> directional, point;  // the `lights` index of each Scene light
     std::vector<std::size_t> mesh;                // the `objects` index of each Scene mesh
+    std::vector<std::size_t> object;              // the `objects` index of each Scene object
+    std::vector<std::vector<std::uint32_t>> faces;  // per Scene mesh: SceneSources::mesh_faces
 
     std::string json_path(const std::string& scene_path, const Scene& scene) const;
 };
@@ -66,8 +68,10 @@ public:
     explicit Reader(std::string file) : file_(std::move(file)), base_dir_(folder_of(file_)) {}
     // A scene held in memory (parse_scene with arrays): model files relative to
     // `base_dir`, mesh arrays by object index.
-    Reader(std::string name, std::string base_dir, const std::map<std::size_t, MeshArrays>* arrays)
-        : file_(std::move(name)), base_dir_(std::move(base_dir)), arrays_(arrays) {
+    // geometry_only: ParseOptions::geometry_only.
+    Reader(std::string name, std::string base_dir, const std::map<std::size_t, MeshArrays>* arrays,
+           bool geometry_only = false)
+        : file_(std::move(name)), base_dir_(std::move(base_dir)), arrays_(arrays), geometry_only_(geometry_only) {
         if (!base_dir_.empty() && base_dir_.back() != '/') base_dir_ += '/';
     }
 
@@ -144,8 +148,8 @@ public:
         return one_of(required(obj, path, "type", "a " + kind), member(path, "type"), kind + " type", types);
     }
 
-    // The document's parts: scene_loader.cpp.
-    Scene scene(const Json& root) const;
+    // The document's parts: scene_loader.cpp. `sources`: filled when given.
+    Scene scene(const Json& root, SceneSources* sources = nullptr) const;
     Camera camera(const Json& j, const std::string& path) const;
     std::vector<Material> materials(const Json& j, const std::string& path) const;
     AmbientLight ambient(const Json& j, const std::string& path) const;
@@ -153,14 +157,18 @@ public:
     void lights(const Json& j, const std::string& path, Scene& scene, SourceMap& source) const;
     RenderSettings render(const Json& j, const std::string& path) const;
 
-    // Objects: scene_objects.cpp.
-    std::vector<Object> objects(const Json& j, const std::string& path, const std::vector<Material>& mats,
+    // Objects: scene_objects.cpp. `mats` null: the scene has no materials (a
+    // geometry-only one): no object names one, each gets material 0.
+    std::vector<Object> objects(const Json& j, const std::string& path, const std::vector<Material>* mats,
                                 std::vector<Mesh>& meshes, SourceMap& source) const;
     Shape shape(const Json& o, const std::string& path, PrimitiveType type) const;
-    Mesh mesh(const Json& o, const std::string& opath) const;  // its model file read by load_model
-    // The mesh object `index` of "objects": from `arrays_` where it is a key, else mesh().
-    Mesh mesh_at(const Json& o, const std::string& opath, std::size_t index) const;
+    // A mesh from its model file (load_model); `faces`: MeshData::faces.
+    Mesh mesh(const Json& o, const std::string& opath, std::vector<std::uint32_t>& faces) const;
+    // The mesh object `index` of "objects": from `arrays_` where it is a key
+    // (zero-area triangles dropped as load_model drops them), else mesh().
+    Mesh mesh_at(const Json& o, const std::string& opath, std::size_t index, std::vector<std::uint32_t>& faces) const;
     MeshTransform mesh_transform(const Json& j, const std::string& path) const;
+    void drop_zero_area(Mesh& m, std::vector<std::uint32_t>& faces, const std::string& opath) const;
 
 private:
     // The folder of a scene file, with its '/' (empty: none named, the working directory).
@@ -172,6 +180,7 @@ private:
     std::string file_;
     std::string base_dir_;  // where relative model files are read from
     const std::map<std::size_t, MeshArrays>* arrays_ = nullptr;
+    bool geometry_only_ = false;
 };
 
 }  // namespace octray::scene_json

@@ -43,9 +43,11 @@ py::dict info(const SceneHandle& s) {
     const Features& f = packet.features();
     py::dict d;
     d["source"] = s.source;
-    d["width"] = scene.camera.width;
-    d["height"] = scene.camera.height;
-    d["camera"] = camera_type_name(scene.camera.type);
+    // A geometry-only scene's placeholder camera and material are not the caller's: None and [].
+    const py::object none = py::none();
+    d["width"] = s.has_camera() ? py::object(py::int_(scene.camera.width)) : none;
+    d["height"] = s.has_camera() ? py::object(py::int_(scene.camera.height)) : none;
+    d["camera"] = s.has_camera() ? py::object(py::str(camera_type_name(scene.camera.type))) : none;
     py::dict prims;
     for (int t = 0; t < kPrimitiveTypeCount; ++t)
         prims[kPrimitiveTypeNames[t]] = packet.count(static_cast<PrimitiveType>(t));
@@ -53,7 +55,8 @@ py::dict info(const SceneHandle& s) {
     d["primitive_count"] = packet.primitive_count();
     d["objects"] = scene.objects.size();
     py::list meshes;
-    for (const Mesh& m : scene.meshes) {
+    for (std::size_t k = 0; k < scene.meshes.size(); ++k) {
+        const Mesh& m = scene.meshes[k];
         Vec3d lo = m.vertices.front(), hi = lo;
         for (const Vec3d& v : m.vertices)
             lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)},
@@ -62,7 +65,8 @@ py::dict info(const SceneHandle& s) {
         md["triangles"] = m.triangle_count();
         md["vertices"] = m.vertices.size();
         md["dropped_degenerate"] = m.dropped_degenerate;
-        md["material"] = scene.materials.at(std::size_t(m.material)).name;
+        md["geometry_id"] = s.primitives.mesh_geometry[k];
+        md["material"] = s.has_materials() ? py::object(py::str(scene.materials.at(std::size_t(m.material)).name)) : none;
         md["bounds"] = py::make_tuple(py::make_tuple(lo.x, lo.y, lo.z), py::make_tuple(hi.x, hi.y, hi.z));
         meshes.append(md);
     }
@@ -76,7 +80,8 @@ py::dict info(const SceneHandle& s) {
     lights["point_inverse_square"] = attenuated;
     d["lights"] = lights;
     py::list materials;
-    for (const Material& m : scene.materials) materials.append(m.name);
+    if (s.has_materials())
+        for (const Material& m : scene.materials) materials.append(m.name);
     d["materials"] = materials;
     d["features"] = feature_string(f.bits);
     d["tonemap"] = tonemap_name(f.tonemap);
@@ -91,6 +96,7 @@ py::dict info(const SceneHandle& s) {
 
 // `octray verify` (tools/cmd_verify.cpp): per path, the table's numbers and the verdict.
 py::dict verify(const SceneHandle& s, int threads) {
+    s.require("verify", true, true);
     checked_threads(threads);
     struct Row {
         Path path;
@@ -134,6 +140,7 @@ py::dict verify(const SceneHandle& s, int threads) {
 
 // `octray errtime` (tools/cmd_errtime.cpp): one dict per row of the table.
 py::list errtime(const SceneHandle& s, int threads, int min_repetitions, int max_repetitions, double min_seconds) {
+    s.require("errtime", true, true);
     checked_threads(threads);
     if (min_repetitions < 5) throw py::value_error("min_repetitions: must be >= 5, got " + std::to_string(min_repetitions));
     if (max_repetitions < min_repetitions)

@@ -1,7 +1,9 @@
 // python/octray_module.cpp — the Python module's core (docs/python.md): Scene
-// (from a JSON file or a dict), rays in numpy arrays through the packet
-// kernels, whole images, the tone map. The harnesses (verify, errtime,
-// stability) and info() are in octray_harness.cpp.
+// (from a JSON file or a dict, geometry-only or not), whole images, the tone
+// map, the camera's rays, the argument checks the other files share. The
+// caller's rays (intersect, occluded, shade) are in ray_cast.cpp, their hit
+// records in hit_record.cpp; the harnesses (verify, errtime, stability) and
+// info() in octray_harness.cpp.
 //
 // Every C++ exception stops at this boundary: octray::SceneError and
 // octray::InvalidScene become octray.SceneError (a ValueError) with the CLI's
@@ -10,9 +12,7 @@
 #include "octray_module.hpp"
 
 #include "image_io.hpp"
-#include "scene_loader.hpp"
 
-#include <octray/kernels.hpp>
 #include <octray/reference.hpp>
 #include <octray/render.hpp>
 #include <octray/threads.hpp>
@@ -22,152 +22,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
-#include <thread>
 #include <vector>
 
 namespace octray::python {
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// ---- arguments ---------------------------------------------------------------
-
-Path packet_path(const std::string& path) {
-    if (path == "simd") return Path::simd;
-    if (path == "scalar") return Path::scalar;
-    throw py::value_error("path: expected 'simd' or 'scalar', got '" + path + "'");
-}
-
-int thread_count(int threads) { return resolve_threads(checked_threads(threads)); }
-
-// An (N, 3) array of a float dtype, read in place: float32 and float64 at any
-// strides; other float dtypes (float16, longdouble) converted once to float64.
-struct Vec3Array {
-    py::array array;  // keeps the data alive
-    const char* base = nullptr;
-    py::ssize_t s0 = 0, s1 = 0;
-    bool f64 = false;
-    std::size_t n = 0;
-
-    template <class T>
-    float get(std::size_t i, int c) const {
-        return static_cast<float>(*reinterpret_cast<const T*>(base + py::ssize_t(i) * s0 + c * s1));
-    }
-};
-
 std::string shape_str(const py::array& a) {
     std::string s = "(";
     for (py::ssize_t k = 0; k < a.ndim(); ++k) s += (k ? ", " : "") + std::to_string(a.shape(k));
     return s + (a.ndim() == 1 ? ",)" : ")");
-}
-
-Vec3Array vec3_array(const py::handle& obj, const char* name) {
-    py::module_ np = py::module_::import("numpy");
-    py::array a;
-    if (py::isinstance<py::array>(obj)) {
-        a = py::reinterpret_borrow<py::array>(obj);
-    } else {
-        try {
-            a = np.attr("asarray")(obj, "dtype"_a = "float64");
-        } catch (py::error_already_set& e) {
-            throw py::type_error(std::string(name) + ": expected an (N, 3) array of floats, got " +
-                                 std::string(py::str(py::type::of(obj).attr("__name__"))));
-        }
-    }
-    const char kind = a.dtype().kind();
-    if (kind != 'f')
-        throw py::type_error(std::string(name) + ": expected a floating-point array, got dtype " +
-                             std::string(py::str(a.dtype())));
-    if (a.ndim() != 2 || a.shape(1) != 3)
-        throw py::value_error(std::string(name) + ": expected an (N, 3) array, got shape " + shape_str(a));
-    if (!a.dtype().is(py::dtype::of<float>()) && !a.dtype().is(py::dtype::of<double>()))
-        a = np.attr("asarray")(a, "dtype"_a = "float64");
-    Vec3Array v;
-    v.array = a;
-    v.base = static_cast<const char*>(a.data());
-    v.s0 = a.strides(0);
-    v.s1 = a.strides(1);
-    v.f64 = a.dtype().is(py::dtype::of<double>());
-    v.n = std::size_t(a.shape(0));
-    return v;
-}
-
-struct RayInput {
-    Vec3Array o, d;
-    float tmin = 0, tmax = kInf;
-    std::size_t n = 0;
-    std::size_t packets = 0;
-};
-
-RayInput ray_input(const py::handle& origins, const py::handle& directions, double tmin, double tmax) {
-    RayInput in;
-    in.o = vec3_array(origins, "origins");
-    in.d = vec3_array(directions, "directions");
-    if (in.o.n != in.d.n)
-        throw py::value_error("directions: expected " + std::to_string(in.o.n) + " rays (as origins), got " +
-                              std::to_string(in.d.n));
-    if (std::isnan(tmin)) throw py::value_error("tmin: must not be NaN");
-    if (std::isnan(tmax)) throw py::value_error("tmax: must not be NaN");
-    in.tmin = float(tmin);
-    in.tmax = float(tmax);
-    in.n = in.o.n;
-    in.packets = (in.n + 7) / 8;
-    return in;
-}
-
-// Fills packet p with rays 8p .. 8p+7 in the caller's order; lanes past the
-// end are inactive. Returns the lanes used.
-template <class TO, class TD>
-int pack(const RayInput& in, std::size_t p, RayPacket8& rp) {
-    const std::size_t base = p * 8;
-    const int lanes = int(std::min<std::size_t>(8, in.n - base));
-    for (int i = 0; i < 8; ++i) {
-        if (i < lanes) {
-            const std::size_t r = base + std::size_t(i);
-            rp.ox[i] = in.o.get<TO>(r, 0), rp.oy[i] = in.o.get<TO>(r, 1), rp.oz[i] = in.o.get<TO>(r, 2);
-            rp.dx[i] = in.d.get<TD>(r, 0), rp.dy[i] = in.d.get<TD>(r, 1), rp.dz[i] = in.d.get<TD>(r, 2);
-            rp.active[i] = 1;
-        } else {
-            rp.ox[i] = rp.oy[i] = rp.oz[i] = 0;
-            rp.dx[i] = rp.dy[i] = 0, rp.dz[i] = 1;
-            rp.active[i] = 0;
-        }
-        rp.tmin[i] = in.tmin;
-        rp.tmax[i] = in.tmax;
-        rp.pixel[i] = 0;
-    }
-    return lanes;
-}
-
-// Runs fn(p0, p1, thread) over packet ranges on `threads` threads (the
-// calling thread takes the first range), the GIL released. Returns nothing;
-// fn must not throw (the kernels are noexcept).
-template <class Fn>
-void parallel_packets(std::size_t packets, int threads, Fn&& fn) {
-    // Fewer than ~64 packets a thread is not worth a thread.
-    const std::size_t most = std::max<std::size_t>(1, packets / 64);
-    const int t = int(std::min<std::size_t>(std::size_t(threads), most));
-    py::gil_scoped_release release;
-    if (t <= 1) {
-        fn(std::size_t(0), packets, 0);
-        return;
-    }
-    std::vector<std::thread> pool;
-    auto range = [&](int k) { return packets * std::size_t(k) / std::size_t(t); };
-    for (int k = 1; k < t; ++k) pool.emplace_back([&, k] { fn(range(k), range(k + 1), k); });
-    fn(range(0), range(1), 0);
-    for (std::thread& th : pool) th.join();
-}
-
-template <class Fn>
-void with_types(const RayInput& in, Fn&& fn) {
-    if (in.o.f64 && in.d.f64) fn(double{}, double{});
-    else if (in.o.f64) fn(double{}, float{});
-    else if (in.d.f64) fn(float{}, double{});
-    else fn(float{}, float{});
 }
 
 // An array that owns a std::vector (no copy).
@@ -180,7 +45,7 @@ py::array_t<T> owning_array(std::vector<T>&& v, std::vector<py::ssize_t> shape) 
 
 }  // namespace
 
-// ---- Scene -------------------------------------------------------------------
+// ---- arguments -----------------------------------------------------------------
 
 int checked_threads(int threads) {
     if (threads < 0 || threads > 1024)
@@ -188,14 +53,66 @@ int checked_threads(int threads) {
     return threads;
 }
 
-SceneHandle::SceneHandle(Scene s, std::string src) : scene(std::make_shared<const Scene>(std::move(s))), source(std::move(src)) {
+Path packet_path(const std::string& path) {
+    if (path == "simd") return Path::simd;
+    if (path == "scalar") return Path::scalar;
+    throw py::value_error("path: expected 'simd' or 'scalar', got '" + path + "'");
+}
+
+Precision precision_mode(const std::string& mode) {
+    std::string names;
+    for (const Precision p : kPrecisions) {
+        if (mode == precision_name(p)) {
+            if (!precision_supported(p))
+                throw py::value_error("mode: '" + mode + "' needs AVX-512 F+VL, which this CPU lacks");
+            return p;
+        }
+        names += std::string(names.empty() ? "" : ", ") + precision_name(p);
+    }
+    throw py::value_error("mode: expected one of " + names + ", got '" + mode + "'");
+}
+
+Kernel kernel_for(const SceneHandle& s, const std::string& path, const std::string& mode) {
+    const Path p = packet_path(path);
+    const Precision precision = precision_mode(mode);
+    const Kernel k = select_kernel(s.compiled, p, precision);
+    // select_kernel falls back rather than fail; a caller who named a mode gets that mode or an error.
+    if (k.precision != precision)
+        throw py::value_error("mode: '" + mode + "' is not built for the " + path + " path here (it would run as '" +
+                              precision_name(k.precision) + "')");
+    return k;
+}
+
+// ---- Scene -------------------------------------------------------------------
+
+SceneHandle::SceneHandle(Scene s, SceneSources src, std::string source_name)
+    : scene(std::make_shared<const Scene>(std::move(s))), source(std::move(source_name)), sources(std::move(src)) {
+    primitives = PrimitiveMap(*scene, sources);
     compiled = compile(*scene);
+}
+
+void SceneHandle::require(const char* call, bool camera, bool materials) const {
+    const bool no_camera = camera && !has_camera(), no_materials = materials && !has_materials();
+    if (!no_camera && !no_materials) return;
+    const std::string what = no_camera && no_materials ? "no camera and no materials"
+                             : no_camera               ? "no camera"
+                                                       : "no materials";
+    const std::string give = no_camera && no_materials ? "a \"camera\" and \"materials\""
+                             : no_camera               ? "a \"camera\""
+                                                       : "\"materials\"";
+    throw py::value_error(std::string(call) + ": this scene has " + what +
+                          " (a geometry-only scene: intersect and occluded only); give its dict " + give +
+                          (no_materials ? ", and each object a \"material\"" : ""));
 }
 
 std::shared_ptr<SceneHandle> load(const std::string& path) {
     py::gil_scoped_release release;
-    return std::make_shared<SceneHandle>(load_scene(path), path);
+    SceneSources sources;
+    Scene scene = load_scene(path, &sources);
+    return std::make_shared<SceneHandle>(std::move(scene), std::move(sources), path);
 }
+
+namespace {
 
 std::shared_ptr<SceneHandle> from_json(const std::string& text, const std::string& base_dir, const py::dict& arrays) {
     std::map<std::size_t, MeshArrays> meshes;
@@ -215,82 +132,17 @@ std::shared_ptr<SceneHandle> from_json(const std::string& text, const std::strin
     }
     static_assert(sizeof(Vec3d) == 3 * sizeof(double), "Vec3d is three doubles");
     py::gil_scoped_release release;
-    return std::make_shared<SceneHandle>(parse_scene(text, "", base_dir, meshes), "");
-}
-
-namespace {
-
-py::dict intersect(const SceneHandle& s, const py::handle& origins, const py::handle& directions, double tmin,
-                   double tmax, const std::string& path, int threads) {
-    const RayInput in = ray_input(origins, directions, tmin, tmax);
-    const Kernel k = select_kernel(s.compiled, packet_path(path));
-    const int nt = thread_count(threads);
-    py::array_t<float> t(py::ssize_t(in.n));
-    py::array_t<std::int32_t> prim(py::ssize_t(in.n));
-    py::array_t<float> normal({py::ssize_t(in.n), py::ssize_t(3)});
-    float* tp = t.mutable_data();
-    std::int32_t* pp = prim.mutable_data();
-    float* np_ = normal.mutable_data();
-    std::vector<long long> masked(std::size_t(std::max(1, nt)), 0);
-    with_types(in, [&](auto o_type, auto d_type) {
-        using TO = decltype(o_type);
-        using TD = decltype(d_type);
-        parallel_packets(in.packets, nt, [&](std::size_t p0, std::size_t p1, int thread) {
-            RayPacket8 rp;
-            HitPacket8 hp;
-            long long m = 0;
-            for (std::size_t p = p0; p < p1; ++p) {
-                const int lanes = pack<TO, TD>(in, p, rp);
-                m += k.intersect(s.compiled, rp, hp);
-                const std::size_t base = p * 8;
-                for (int i = 0; i < lanes; ++i) {
-                    const std::size_t r = base + std::size_t(i);
-                    const bool hit = hp.hit[i] != 0;
-                    tp[r] = hit ? hp.t[i] : kInf;
-                    pp[r] = hit ? hp.primitive[i] : -1;
-                    np_[3 * r] = hit ? hp.nx[i] : 0.0f;
-                    np_[3 * r + 1] = hit ? hp.ny[i] : 0.0f;
-                    np_[3 * r + 2] = hit ? hp.nz[i] : 0.0f;
-                }
-            }
-            masked[std::size_t(thread)] = m;
-        });
-    });
-    long long total = 0;
-    for (long long m : masked) total += m;
-    py::dict out;
-    out["t"] = t;
-    out["primitive"] = prim;
-    out["normal"] = normal;
-    out["masked"] = total;
-    return out;
-}
-
-py::array_t<bool> occluded(const SceneHandle& s, const py::handle& origins, const py::handle& directions, double tmin,
-                           double tmax, const std::string& path, int threads) {
-    const RayInput in = ray_input(origins, directions, tmin, tmax);
-    const Kernel k = select_kernel(s.compiled, packet_path(path));
-    const int nt = thread_count(threads);
-    py::array_t<bool> out(py::ssize_t(in.n));
-    bool* op = out.mutable_data();
-    with_types(in, [&](auto o_type, auto d_type) {
-        using TO = decltype(o_type);
-        using TD = decltype(d_type);
-        parallel_packets(in.packets, nt, [&](std::size_t p0, std::size_t p1, int) {
-            RayPacket8 rp;
-            alignas(32) std::int32_t occ[8];
-            for (std::size_t p = p0; p < p1; ++p) {
-                const int lanes = pack<TO, TD>(in, p, rp);
-                k.occluded(s.compiled, rp, occ);
-                for (int i = 0; i < lanes; ++i) op[p * 8 + std::size_t(i)] = occ[i] != 0;
-            }
-        });
-    });
-    return out;
+    SceneSources sources;
+    ParseOptions options;
+    options.geometry_only = true;  // a dict may leave out the camera and the materials
+    options.sources = &sources;
+    Scene scene = parse_scene(text, "", base_dir, meshes, options);
+    return std::make_shared<SceneHandle>(std::move(scene), std::move(sources), "");
 }
 
 // The camera's rays, pixel by pixel, rows top first: the camera kernel's floats.
 py::tuple camera_rays(const SceneHandle& s) {
+    s.require("camera_rays", true, false);
     const int w = s.compiled.width(), h = s.compiled.height();
     const Kernel k = select_kernel(s.compiled, Path::simd);
     std::vector<float> o(std::size_t(w) * std::size_t(h) * 3), d(o.size());
@@ -310,9 +162,16 @@ py::tuple camera_rays(const SceneHandle& s) {
     return py::make_tuple(owning_array(std::move(o), {h, w, 3}), owning_array(std::move(d), {h, w, 3}));
 }
 
-// `octray render --hdr` (tools/cmd_render.cpp), step for step.
-py::array_t<float> render(const SceneHandle& s, const std::string& path, const py::object& width_obj, int threads) {
-    if (path != "reference") packet_path(path);
+// `octray render --hdr` (tools/cmd_render.cpp), step for step; `mode` as
+// errtime's precision modes (the CLI's render runs exact).
+py::array_t<float> render(const SceneHandle& s, const std::string& path, const py::object& width_obj, int threads,
+                          const std::string& mode) {
+    s.require("render", true, true);
+    const bool reference = path == "reference";
+    const Precision precision = precision_mode(mode);
+    if (reference && precision != Precision::exact)
+        throw py::value_error("mode: the reference path renders in double alone; mode is for 'simd' and 'scalar'");
+    if (!reference) kernel_for(s, path, mode);  // the path and mode checked before the work
     int width = 0;
     if (!width_obj.is_none()) {
         width = width_obj.cast<int>();
@@ -320,7 +179,7 @@ py::array_t<float> render(const SceneHandle& s, const std::string& path, const p
             throw py::value_error("width: must be in [1, " + std::to_string(kMaxImageSide) + "], got " +
                                   std::to_string(width));
     }
-    const int nt = thread_count(threads);
+    const int nt = resolve_threads(checked_threads(threads));
     int w = 0, h = 0;
     std::vector<float> rgb;
     {
@@ -336,7 +195,7 @@ py::array_t<float> render(const SceneHandle& s, const std::string& path, const p
         scene = &resized;
     }
     w = scene->camera.width, h = scene->camera.height;
-    if (path == "reference") {
+    if (reference) {
         const Image<double> hdr = reference::render(*scene);
         rgb.resize(hdr.rgb.size());
         for (std::size_t k = 0; k < rgb.size(); ++k) rgb[k] = static_cast<float>(hdr.rgb[k]);  // as write_pfm stores it
@@ -345,7 +204,7 @@ py::array_t<float> render(const SceneHandle& s, const std::string& path, const p
         options.threads = nt;
         const PacketScene rebuilt = width > 0 ? compile(*scene, options) : PacketScene();
         const PacketScene& packet = width > 0 ? rebuilt : s.compiled;
-        const Kernel kernel = select_kernel(packet, packet_path(path));
+        const Kernel kernel = select_kernel(packet, packet_path(path), precision);
         Image<float> shown(w, h);
         PacketRender out = render_packet(kernel, packet, nt, {}, &shown);
         rgb = std::move(out.radiance.rgb);
@@ -400,15 +259,16 @@ py::array_t<std::uint8_t> tonemap(const SceneHandle& s, const py::handle& hdr_ob
 void bind_scene(py::module_& m, py::class_<SceneHandle, std::shared_ptr<SceneHandle>>& cls) {
     m.def("_load", &load, "path"_a);
     m.def("_from_json", &from_json, "text"_a, "base_dir"_a, "arrays"_a);
-    cls.def("intersect", &intersect, "origins"_a, "directions"_a, "tmin"_a = 0.0,
-            "tmax"_a = std::numeric_limits<double>::infinity(), py::kw_only(), "path"_a = "simd", "threads"_a = 0);
-    cls.def("occluded", &occluded, "origins"_a, "directions"_a, "tmin"_a = 0.0,
-            "tmax"_a = std::numeric_limits<double>::infinity(), py::kw_only(), "path"_a = "simd", "threads"_a = 0);
     cls.def("camera_rays", &camera_rays);
-    cls.def("render", &render, "path"_a = "simd", "width"_a = py::none(), "threads"_a = 0);
+    cls.def("render", &render, "path"_a = "simd", "width"_a = py::none(), "threads"_a = 0, py::kw_only(),
+            "mode"_a = "exact");
     cls.def("tonemap", &tonemap, "hdr"_a, "path"_a = "simd");
-    cls.def_property_readonly("width", [](const SceneHandle& s) { return s.compiled.width(); });
-    cls.def_property_readonly("height", [](const SceneHandle& s) { return s.compiled.height(); });
+    // A geometry-only scene has no camera, so no image size: None.
+    auto side = [](const SceneHandle& s, int v) { return s.has_camera() ? py::object(py::int_(v)) : py::object(py::none()); };
+    cls.def_property_readonly("width", [side](const SceneHandle& s) { return side(s, s.compiled.width()); });
+    cls.def_property_readonly("height", [side](const SceneHandle& s) { return side(s, s.compiled.height()); });
+    cls.def_property_readonly("has_camera", &SceneHandle::has_camera);
+    cls.def_property_readonly("has_materials", &SceneHandle::has_materials);
     cls.def_property_readonly("primitive_count", [](const SceneHandle& s) { return s.compiled.primitive_count(); });
     cls.def_property_readonly("source", [](const SceneHandle& s) { return s.source; });
 }
@@ -434,5 +294,6 @@ PYBIND11_MODULE(_octray, m) {
     });
     py::class_<SceneHandle, std::shared_ptr<SceneHandle>> cls(m, "_Scene");
     bind_scene(m, cls);
+    bind_rays(cls);
     bind_harness(m, cls);
 }

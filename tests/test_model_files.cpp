@@ -7,6 +7,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -110,6 +111,8 @@ TEST_CASE("model_loader: degenerate triangles are dropped and counted") {
     CHECK(m.triangle_count() == 2);
     CHECK(m.dropped_degenerate == 2);
     CHECK(m.vertices.size() == 4);  // vertex 5 (2,2,2) and 4 (1,1,1) are used by no kept triangle
+    CHECK(m.faces == std::vector<std::uint32_t>{0, 3});  // the file's numbers of the kept triangles
+    CHECK(m.face_of(1) == 3);
     CHECK(load_error(dir.write("all_degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\n")) ==
           "no triangles (all 2 have zero area)");
 
@@ -119,6 +122,10 @@ TEST_CASE("model_loader: degenerate triangles are dropped and counted") {
     const MeshData spider = load_model(model("OBJ/spider.obj"));
     CHECK(spider.triangle_count() == 1368 - 56);
     CHECK(spider.dropped_degenerate == 56);
+    REQUIRE(spider.faces.size() == spider.triangle_count());
+    CHECK(std::is_sorted(spider.faces.begin(), spider.faces.end()));
+    CHECK(std::adjacent_find(spider.faces.begin(), spider.faces.end()) == spider.faces.end());
+    CHECK(spider.faces.back() < 1368);
 }
 
 TEST_CASE("model_loader: shared vertices by exact position, across meshes") {
@@ -130,6 +137,7 @@ TEST_CASE("model_loader: shared vertices by exact position, across meshes") {
     const MeshData m = load_model(dir.write("shared.obj", obj));
     REQUIRE(m.triangle_count() == 2);
     CHECK(m.vertices.size() == 4);
+    CHECK(m.faces.empty());              // none dropped: no face map
     CHECK(m.indices[1] == m.indices[3]);  // (1,0,0) once
     CHECK(m.indices[2] == m.indices[5]);  // (0,1,0) once
 }

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import octray
-from conftest import sphere_scene
+from conftest import height_field, sphere_scene, triangle_t
 
 RNG = np.random.default_rng(7)
 
@@ -75,22 +75,13 @@ def test_unit_sphere_head_on():
 
 
 def brute_force_triangles(v, tris, o, d):
-    """Moller-Trumbore over every triangle in float64: closest t and triangle index."""
+    """Every triangle in float64: closest t and triangle index."""
     a, b, c = v[tris[:, 0]], v[tris[:, 1]], v[tris[:, 2]]
     e1, e2 = b - a, c - a
     best = np.full(len(o), np.inf)
     ids = np.full(len(o), -1)
     for k in range(len(tris)):
-        p = np.cross(d, e2[k])
-        det = p @ e1[k]
-        inv = 1.0 / np.where(det == 0, np.nan, det)
-        s = o - a[k]
-        u = np.einsum("ij,ij->i", s, p) * inv
-        q = np.cross(s, e1[k])
-        w = np.einsum("ij,ij->i", d, q) * inv
-        t = (q @ e2[k]) * inv
-        ok = (u >= 0) & (w >= 0) & (u + w <= 1) & (t > 0)
-        t = np.where(ok, t, np.inf)
+        t = triangle_t(a[k], e1[k], e2[k], o, d)
         closer = t < best
         best = np.where(closer, t, best)
         ids = np.where(closer, k, ids)
@@ -101,15 +92,7 @@ def test_mesh_arrays_match_brute_force():
     # A bumpy 12 x 12 grid mesh plus one sphere first: triangle ids follow the objects'.
     k = 12
     xs = np.linspace(-2, 2, k + 1)
-    gx, gz = np.meshgrid(xs, xs)
-    gy = 0.3 * np.sin(2 * gx) * np.cos(3 * gz)
-    verts = np.stack([gx.ravel(), gy.ravel(), gz.ravel()], axis=1)
-    tris = []
-    for j in range(k):
-        for i in range(k):
-            a = j * (k + 1) + i
-            tris += [[a, a + k + 1, a + 1], [a + 1, a + k + 1, a + k + 2]]
-    tris = np.array(tris)
+    verts, tris = height_field(xs, xs, lambda x, z: 0.3 * np.sin(2 * x) * np.cos(3 * z))
     d = sphere_scene([((0, 3, 0), 0.5)])
     d["objects"].append({"type": "mesh", "vertices": verts, "indices": tris, "material": "m"})
     scene = octray.Scene(d)

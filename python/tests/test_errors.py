@@ -130,8 +130,14 @@ def test_mesh_array_errors():
     v[3, 1] = np.inf
     with pytest.raises(octray.SceneError, match=r"^objects\[1\]\.vertices\[3\]: must be finite$"):
         octray.Scene(mesh_dict(v, TRI_I))
-    with pytest.raises(octray.SceneError, match=r"^objects\[1\]\.indices\[3\]: triangle 1 has zero area$"):
-        octray.Scene(mesh_dict(TRI_V, np.array([[0, 1, 2], [1, 1, 2]])))
+    # Zero-area triangles are dropped and counted, as a model file's are; all of them is an error.
+    zero = octray.Scene(mesh_dict(TRI_V, np.array([[0, 1, 2], [1, 1, 2], [0, 1, 1]])))
+    assert zero.primitive_count == 2 and zero.info()["meshes"][0]["dropped_degenerate"] == 2
+    with pytest.raises(octray.SceneError, match=r"^objects\[1\]\.indices: no triangles \(all 2 have zero area\)$"):
+        octray.Scene(mesh_dict(TRI_V, np.array([[1, 1, 2], [0, 1, 1]])))
+    # A bad index is reported at its place in the caller's array, zero-area triangles before it or not.
+    with pytest.raises(octray.SceneError, match=r"^objects\[1\]\.indices\[5\]: index 9 out of range \(4 vertices\)$"):
+        octray.Scene(mesh_dict(TRI_V, np.array([[1, 1, 2], [0, 1, 9]])))
     with pytest.raises(octray.SceneError, match=r"^objects\[1\]: has no triangles$"):
         octray.Scene(mesh_dict(TRI_V, np.zeros((0, 3), int)))
     d = mesh_dict(TRI_V, TRI_I)

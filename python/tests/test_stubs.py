@@ -20,7 +20,8 @@ def stub_names():
 def test_stubs_cover_the_api():
     top, scene = stub_names()
     assert set(octray.__all__) <= top
-    public = {n for n, v in vars(octray.Scene).items() if not n.startswith("_") and (callable(v) or isinstance(v, property))}
+    public = {n for n, v in vars(octray.Scene).items()
+              if not n.startswith("_") and (callable(v) or isinstance(v, (property, classmethod)))}
     assert public | {"__init__"} == scene
     for name in octray.__all__:
         assert inspect.getdoc(getattr(octray, name)), name
