@@ -48,6 +48,7 @@ Kernel make_kernel_at(Path path, const char* isa, unsigned primitive_bits, unsig
     k.tonemap_group = &tonemap_group<T, P>;
     k.camera = &camera_packet<T, P>;
     k.occluded = &occluded_packet<T, P, kAllPrimitives>;
+    k.intersect_fields = &intersect_fields_packet<T, P, kAllFeatures>;
     if constexpr (Specialize) {
         const unsigned pi = primitive_bits & kAllPrimitives, li = (light_bits >> kLightShift) & (kLightVariants - 1);
         k.intersect = intersect_variants<T, P>(std::make_index_sequence<kPrimitiveVariants>{})[pi];

@@ -106,55 +106,44 @@ inline void store_out(T* dst, const T* src, std::size_t count) noexcept {
 }
 
 // A run of consecutive intersected rays on their way to the output arrays:
-// the float rays, the kernel's answers, and for mesh triangles where their
-// vertices are.
+// the kernel's answers (Kernel::intersect_fields) and, found here, each
+// hit's geometry and primitive id.
 struct HitChunk {
-    static constexpr int kRays = 128;  // 16 packets: long loops, 11 KB
+    static constexpr int kRays = 128;  // 16 packets: long loops
     static constexpr std::uint32_t kNoMesh = 0xFFFFFFFFu;
-    alignas(64) float ox[kRays], oy[kRays], oz[kRays], dx[kRays], dy[kRays], dz[kRays];
     alignas(64) float t[kRays], nx[kRays], ny[kRays], nz[kRays];  // inf and 0 on a miss
+    alignas(64) float u[kRays], v[kRays], ngx[kRays], ngy[kRays], ngz[kRays];  // HitFields8's
     alignas(64) std::int32_t hit[kRays];        // the kernel's HitPacket8::hit
     alignas(64) std::int32_t primitive[kRays];  // the global number; -1: a miss
     alignas(64) std::uint32_t mesh[kRays];      // a mesh triangle's Scene::meshes index; else kNoMesh
     alignas(64) std::uint32_t local[kRays];     // its number in that mesh (as kept)
     alignas(64) std::int32_t geometry_id[kRays], primitive_id[kRays];  // HitRecorder finds them
-    const Vec3d* vertex[3][kRays];              // its vertices; else a stand-in triangle's
     int count = 0;
     std::size_t first = 0;                      // the first ray's index
 };
 
-// Writes geometry_id and primitive_id (found from the global primitive
-// number as the chunk filled), uv and geometric_normal of a chunk's rays: uv
-// and the winding's normal in double from the scene's double geometry at the
-// hit point o + t d. The one place these two are computed, so a kernel that
-// returns them later replaces this function alone. Misses: -1, -1, (0, 0),
-// (0, 0, 0).
-void hit_records(const SceneHandle& s, const HitChunk& c, const HitArrays& out) noexcept;
+// Writes a chunk's geometry_id and primitive_id (found from the global
+// primitive number as the chunk filled), uv and geometric_normal (the
+// kernel's HitFields8). Misses: -1, -1, (0, 0), (0, 0, 0).
+void hit_records(const HitChunk& c, const HitArrays& out) noexcept;
 
 // One thread's intersected packets, in order, on their way to the output
-// arrays, in chunks of 16 packets a chunk two chunks behind the kernel: when
-// a chunk is full its mesh triangles' indices are prefetched; when the next
-// is full, its vertices (the indices are in cache by then); when the one
-// after is full, it is recorded and written. A large mesh's double geometry
-// is not what the kernel walks: its cache misses overlap the kernel's work
-// this way, instead of adding to it. push() each intersected packet, then
-// finish().
+// arrays, a chunk of 16 packets at a time: when a chunk is full, its ids are
+// found (a mesh's kept triangle numbered as the caller's face array numbers
+// it) and everything is written. push() each intersected packet, then finish().
 class HitRecorder {
 public:
-    HitRecorder(const SceneHandle& s, const HitArrays& out) : s_(s), out_(out), ring_(new HitChunk[3]()) {}  // zeroed: the loops read whole chunks
-    void push(const RayPacket8& rays, const HitPacket8& hits, int lanes, std::size_t first) noexcept;
+    HitRecorder(const SceneHandle& s, const HitArrays& out) : s_(s), out_(out), chunk_(new HitChunk()) {}  // zeroed: the loops read whole chunks
+    void push(const HitPacket8& hits, const HitFields8& fields, int lanes, std::size_t first) noexcept;
     void finish() noexcept;
 
 private:
-    void complete() noexcept;                          // the current chunk is full (or the last)
-    void find_meshes(HitChunk& c) const noexcept;      // its ids and triangles, their indices prefetched
-    void find_vertices(HitChunk& c) const noexcept;    // the triangles' vertices, prefetched
-    void write(const HitChunk& c) const noexcept;      // everything to the output arrays
-    HitChunk& chunk(std::size_t n) { return ring_[n % 3]; }
+    void complete() noexcept;                   // the chunk is full (or the last)
+    void find_ids(HitChunk& c) const noexcept;  // its geometry and primitive ids
+    void write(const HitChunk& c) const noexcept;  // everything to the output arrays
     const SceneHandle& s_;
     HitArrays out_;
-    std::unique_ptr<HitChunk[]> ring_;
-    std::size_t completed_ = 0;  // chunks completed so far; chunk(completed_) is being filled
+    std::unique_ptr<HitChunk> chunk_;
 };
 
 void bind_scene(py::module_& m, py::class_<SceneHandle, std::shared_ptr<SceneHandle>>& cls);

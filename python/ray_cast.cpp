@@ -293,8 +293,9 @@ py::dict intersect(const SceneHandle& s, const py::handle& origins, const py::ha
     for (int j = 0; j < std::max(1, nt); ++j) recorders.emplace_back(s, arrays);
     for_each_packet(in, nt, [&](const RayPacket8& rp, std::size_t p, int lanes, int thread) {
         HitPacket8 hp;
-        masked[std::size_t(thread)].n += k.intersect(s.compiled, rp, hp);
-        recorders[std::size_t(thread)].push(rp, hp, lanes, p * 8);
+        HitFields8 fields;
+        masked[std::size_t(thread)].n += k.intersect_fields(s.compiled, rp, hp, fields);
+        recorders[std::size_t(thread)].push(hp, fields, lanes, p * 8);
     });
     for (HitRecorder& r : recorders) r.finish();  // each thread's last chunks
     long long total = 0;

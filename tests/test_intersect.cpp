@@ -13,6 +13,8 @@
 #include "reference/reference_parts.hpp"
 
 #include <algorithm>
+#include <cstring>
+#include <utility>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -322,4 +324,81 @@ TEST_CASE("hits report the material and mesh of their primitive, for any number 
                     CHECK(hits >= spheres + 2 * mesh_count);
                 }
         }
+}
+
+TEST_CASE("intersect_fields: intersect's hits bit for bit, with barycentrics and geometric normals that match the reference") {
+    // Every primitive type, one object at a time, every SIMD ISA and the scalar
+    // path, every precision mode the unit has.
+    std::vector<std::pair<Path, Isa>> kernels{{Path::scalar, Isa::best}};
+    for (const Isa isa : simd_isas()) kernels.emplace_back(Path::simd, isa);
+    int checked_uv = 0, checked_n = 0;
+    for (int type_index = 0; type_index < kPrimitiveTypeCount; ++type_index) {
+        const PrimitiveType type = PrimitiveType(type_index);
+        CAPTURE(primitive_type_name(type));
+        RandomRays r(77u + unsigned(type_index));
+        for (int shape_index = 0; shape_index < 40; ++shape_index) {
+            const Scene scene = one_object_scene(random_shape(type, r));
+            const Shape& shape = scene.objects[0].shape;
+            const PacketScene ps = compile(scene);
+            RayPacket8 rp;
+            reference::Ray refs[8];
+            for (int i = 0; i < 8; ++i) {
+                const Vec3d o = fl(r.in_cube(8));
+                const Vec3d aim = r.in_cube(1.5) - o;
+                refs[i] = {o, fl(aim * (1 / std::sqrt(dot(aim, aim))))};
+                set_ray(rp, i, refs[i].origin, refs[i].direction);
+            }
+            for (const auto& [path, isa] : kernels)
+                for (const Precision mode : kPrecisions) {
+                    if (!precision_supported(mode)) continue;
+                    const Kernel k = select_kernel(ps, path, mode, isa);
+                    HitPacket8 plain, hp;
+                    HitFields8 fields;
+                    k.intersect(ps, rp, plain);
+                    REQUIRE(bool(k.intersect_fields));
+                    k.intersect_fields(ps, rp, hp, fields);
+                    CHECK(std::memcmp(&plain, &hp, sizeof hp) == 0);
+                    for (int i = 0; i < 8; ++i) {
+                        if (hp.hit[i] == 0) {
+                            CHECK(fields.u[i] == 0.0f);
+                            CHECK(fields.ngx[i] == 0.0f);
+                            continue;
+                        }
+                        const Vec3d p = refs[i].origin + refs[i].direction * double(hp.t[i]);
+                        const Vec3d ng{fields.ngx[i], fields.ngy[i], fields.ngz[i]};
+                        const Vec3d n{hp.nx[i], hp.ny[i], hp.nz[i]};
+                        // The geometric normal: unit, the shading normal up to its turn toward the ray.
+                        CHECK(std::fabs(length_squared(ng) - 1) <= 1e-5);
+                        CHECK(std::min(length_squared(ng - n), length_squared(ng + n)) <= 1e-10);
+                        const Vec3d ref_n = reference::geometric_normal(shape, p);
+                        if (type != PrimitiveType::box) {  // a box edge may take either face
+                            CHECK(length_squared(ng - ref_n) <= 1e-6);
+                            ++checked_n;
+                        }
+                        // Where on the primitive: (u, v) rebuild the hit point.
+                        if (const auto* tri = std::get_if<Triangle>(&shape)) {
+                            const double u = fields.u[i], v = fields.v[i];
+                            const Vec3d q = tri->v0 * (1 - u - v) + tri->v1 * u + tri->v2 * v;
+                            const double size = std::sqrt(std::max({length_squared(tri->v1 - tri->v0),
+                                                                    length_squared(tri->v2 - tri->v0), 1e-30}));
+                            CHECK(std::sqrt(length_squared(q - p)) <= 1e-5 * (size + std::sqrt(length_squared(p))));
+                            CHECK(u >= -1e-6);
+                            CHECK(v >= -1e-6);
+                            CHECK(u + v <= 1 + 1e-6);
+                            ++checked_uv;
+                        } else if (const auto* rect = std::get_if<Rectangle>(&shape)) {
+                            const Vec3d q = rect->corner + rect->a * double(fields.u[i]) + rect->b * double(fields.v[i]);
+                            CHECK(std::sqrt(length_squared(q - p)) <= 1e-5 * (1 + std::sqrt(length_squared(p))));
+                            ++checked_uv;
+                        } else {
+                            CHECK(fields.u[i] == 0.0f);
+                            CHECK(fields.v[i] == 0.0f);
+                        }
+                    }
+                }
+        }
+    }
+    MESSAGE(checked_uv << " lanes' (u, v) and " << checked_n << " geometric normals checked");
+    CHECK(checked_uv > 1000);
+    CHECK(checked_n > 2000);
 }

@@ -7,6 +7,7 @@
 //     octray::PacketScene scene = octray::compile(authoring_scene);
 //     octray::Kernel k = octray::select_kernel(scene, octray::Path::simd);
 //     int masked = k.intersect(scene, rays, hits);   // lanes masked off for bad input
+//     k.intersect_fields(scene, rays, hits, fields);   // the same, plus u, v and the geometric normal
 //     k.shade(scene, rays, hits, radiance);            // HDR radiance
 //     k.tonemap(scene, radiance, display);             // display colour in [0,1]
 //     k.tonemap_group(scene, radiance_array, display_array, n);  // n packets: n tonemap calls' bits
@@ -46,6 +47,7 @@ inline constexpr const char* isa_name(Isa i) {
 }
 
 using IntersectFn = int (*)(const PacketScene&, const RayPacket8&, HitPacket8&) noexcept;
+using IntersectFieldsFn = int (*)(const PacketScene&, const RayPacket8&, HitPacket8&, HitFields8&) noexcept;
 using OccludedFn = void (*)(const PacketScene&, const RayPacket8&, std::int32_t* occluded) noexcept;
 using ShadeFn = void (*)(const PacketScene&, const RayPacket8&, const HitPacket8&, ColorPacket8&) noexcept;
 using TonemapFn = void (*)(const PacketScene&, const ColorPacket8&, ColorPacket8&) noexcept;
@@ -54,6 +56,10 @@ using TonemapGroupFn = void (*)(const PacketScene&, const ColorPacket8* in, Colo
 
 struct Kernel {
     IntersectFn intersect = nullptr;  // closest hit; returns lanes masked off (active but invalid)
+    // intersect's hits, bit for bit, and the fields a caller asks for
+    // (HitFields8: u, v, the geometric normal); always the general variant of
+    // the kernel's path, precision and ISA, whatever the scene's features.
+    IntersectFieldsFn intersect_fields = nullptr;
     OccludedFn occluded = nullptr;    // any hit in (tmin, tmax); occluded[i] = -1 or 0
     ShadeFn shade = nullptr;          // HDR radiance; misses and inactive lanes get the background
     TonemapFn tonemap = nullptr;      // scene's tone map and gamma; NaN/inf map into gamut

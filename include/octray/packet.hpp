@@ -47,6 +47,22 @@ struct alignas(32) HitPacket {
     alignas(32) std::int32_t mesh[W];       // Scene::meshes index of a hit mesh triangle, else -1
 };
 
+// Fields of a closest hit that a caller asks for (Kernel::intersect_fields),
+// lane by lane beside its HitPacket; Kernel::intersect computes none of them.
+template <int W = kPacketWidth>
+struct alignas(32) HitFields {
+    static constexpr int width = W;
+    // Where on the primitive: a triangle's barycentrics, the hit being
+    // (1 - u - v) v0 + u v1 + v v2 (Embree's and Open3D's convention); a
+    // rectangle's (s, t), the hit being corner + s a + t b; 0 for the other
+    // shapes and on a miss.
+    alignas(32) float u[W], v[W];
+    // The unit geometric normal, not turned to face the ray: a triangle's
+    // winding, (v1 - v0) x (v2 - v0); a sphere's and a box face's outward; a
+    // plane's, disk's or rectangle's as authored (a rectangle's a x b); 0 on a miss.
+    alignas(32) float ngx[W], ngy[W], ngz[W];
+};
+
 template <int W = kPacketWidth>
 struct alignas(32) ColorPacket {
     static constexpr int width = W;
@@ -55,6 +71,7 @@ struct alignas(32) ColorPacket {
 
 using RayPacket8 = RayPacket<8>;
 using HitPacket8 = HitPacket<8>;
+using HitFields8 = HitFields<8>;
 using ColorPacket8 = ColorPacket<8>;
 
 }  // namespace octray

@@ -17,6 +17,7 @@ struct Closest {
     // test read (the hit record then reads no scene-wide table for it).
     Vec3<T> tri_n{T(0), T(0), T(0)};
     T tri_id = T(-1);
+    T tri_u = T(0), tri_v = T(0);  // its barycentrics, kept where the caller asks (HitFields)
 
     // Keeps the lanes of `hit` (a test accepted them for t' < t) at t' and id.
     OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id) {
@@ -43,12 +44,21 @@ struct Closest {
         tri_n = {lane::select(hit, m.x, tri_n.x), lane::select(hit, m.y, tri_n.y), lane::select(hit, m.z, tri_n.z)};
         tri_id = lane::select(hit, T(at[kPrimitiveId * n]), tri_id);
     }
+    // The same, with the hit's barycentrics.
+    OCTRAY_HOT void take(const Mask<T>& hit, const T& t_hit, int id, const TriangleRun& tri, int j, const T& u,
+                         const T& v) {
+        if (!lane::any(hit)) return;
+        take(hit, t_hit, id, tri, j);
+        tri_u = lane::select(hit, u, tri_u);
+        tri_v = lane::select(hit, v, tri_v);
+    }
 };
 
 // The bounded primitives' part of closest_hit, templated on those types alone
 // (B = bounded_bits(F)): kernels that differ only in planes share one walk,
 // which keeps the number of walk instantiations, and the build, in check.
-template <class T, Precision P, unsigned B>
+// Fields: keep a triangle's barycentrics too (HitFields).
+template <class T, Precision P, unsigned B, bool Fields>
 inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& best) {
     LaneRay<T, P> lanes(r);
     for_each_candidate<true, B>(s, r, r.valid, best.t, [&](auto tag, int k, const Run& run) OCTRAY_HOT_LAMBDA {
@@ -60,8 +70,14 @@ inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& 
             best.take(hit, t, s.offset[int(type)] + k, near);
         } else if constexpr (type == PrimitiveType::triangle) {
             const int j = k - run.k0;
-            const T t = test_triangle(run.tri, j, r, hit, best.t);
-            best.take(hit, t, s.offset[int(type)] + k, run.tri, j);
+            if constexpr (Fields) {
+                T uv[2];
+                const T t = test_triangle(run.tri, j, r, hit, best.t, uv);
+                best.take(hit, t, s.offset[int(type)] + k, run.tri, j, uv[0], uv[1]);
+            } else {
+                const T t = test_triangle(run.tri, j, r, hit, best.t);
+                best.take(hit, t, s.offset[int(type)] + k, run.tri, j);
+            }
         } else {
             const T t = test_primitive<type, T, P>(s, k, run, r, hit, best.t);
             best.take(hit, t, s.offset[int(type)] + k);
@@ -75,7 +91,8 @@ inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& 
         T tbest = bvh::detail::lane_broadcast(best.t, i);
         for (int j = 0; j < run.n; j += W) {
             Mask<T> hit, near;
-            const T t = test_run<type>(s, run, j, one, hit, tbest, near);
+            T uv[2];
+            const T t = test_run<type>(s, run, j, one, hit, tbest, near, Fields ? uv : nullptr);
             hit = hit && run_lanes<T>(run.n - j);
             if (!lane::any(hit)) continue;
             tbest = T(lane::hmin(lane::select(hit, t, inf<T>())));
@@ -86,13 +103,17 @@ inline void closest_bounded(const SceneData& s, const Ray<T, P>& r, Closest<T>& 
                           Mask<T>(((lane::bits(near) >> first) & 1u) != 0));
             } else {
                 const int jj = j + first;
-                best.take(alone, tbest, s.offset[int(type)] + run.k0 + jj, run.tri, jj);
+                if constexpr (Fields)
+                    best.take(alone, tbest, s.offset[int(type)] + run.k0 + jj, run.tri, jj,
+                              bvh::detail::lane_broadcast(uv[0], first), bvh::detail::lane_broadcast(uv[1], first));
+                else
+                    best.take(alone, tbest, s.offset[int(type)] + run.k0 + jj, run.tri, jj);
             }
         }
     });
 }
 
-template <class T, Precision P, unsigned F>
+template <class T, Precision P, unsigned F, bool Fields = false>
 inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
     Closest<T> best{r.tmax, T(-1)};
     if constexpr ((F & kPlane) != 0) {
@@ -103,7 +124,7 @@ inline Closest<T> closest_hit(const SceneData& s, const Ray<T, P>& r) {
             best.take(hit, t, base + k);
         }
     }
-    if constexpr (bounded_bits(F) != 0) closest_bounded<T, P, bounded_bits(F)>(s, r, best);
+    if constexpr (bounded_bits(F) != 0) closest_bounded<T, P, bounded_bits(F), Fields>(s, r, best);
     return best;
 }
 

@@ -165,16 +165,49 @@ inline void owners_of(const PrimitiveOwners& o, const Lookup<T>& at, const T& pr
     }
 }
 
-template <class T, Precision P, unsigned F>
-inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8& hp, int lane) {
+// The fields of HitFields for the lanes of `hit`: (u, v) of triangles (from
+// the closest hit) and rectangles (from the hit point), the geometric normal.
+template <class T, unsigned F>
+inline void store_fields(const SceneData& s, const Closest<T>& best, const T& cid, const Mask<T>& hit, const Vec3<T>& p,
+                         const Vec3<T>& ng, HitFields8& out, int lane) {
+    T u(0), v(0);
+    if constexpr ((F & kTriangle) != 0) {
+        const Mask<T> tri = hit && cid >= T(float(s.offset[int(PrimitiveType::triangle)]));
+        u = lane::keep(tri, best.tri_u), v = lane::keep(tri, best.tri_v);
+    }
+    if constexpr ((F & kRectangle) != 0) {
+        const int base = s.offset[int(PrimitiveType::rectangle)], count = s.count[int(PrimitiveType::rectangle)];
+        const Mask<T> rect = hit && cid >= T(float(base)) && cid < T(float(base + count));
+        if (count > 0 && lane::any(rect)) {
+            const RectangleArrays& a = s.rectangles;
+            const Lookup<T> at(lane::keep(rect, cid - T(float(base))), rect);
+            const Vec3<T> q = p - at(a.cx, a.cy, a.cz);
+            u = lane::select(rect, fdot(q, at(a.dual_ax, a.dual_ay, a.dual_az)), u);
+            v = lane::select(rect, fdot(q, at(a.dual_bx, a.dual_by, a.dual_bz)), v);
+        }
+    }
+    store(out.u, lane, u);
+    store(out.v, lane, v);
+    store(out.ngx, lane, lane::keep(hit, ng.x));
+    store(out.ngy, lane, lane::keep(hit, ng.y));
+    store(out.ngz, lane, lane::keep(hit, ng.z));
+}
+
+// Lanes [lane, lane + width) of a packet: the closest hit finished into hp,
+// and where Fields, into *fields too.
+template <class T, Precision P, unsigned F, bool Fields = false>
+inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8& hp, int lane,
+                           HitFields8* fields = nullptr) {
     int masked = 0;
     const Ray<T, P> r = load_ray<T, P>(rp, lane, masked);
-    const Closest<T> best = closest_hit<T, P, F>(s, r);
+    const Closest<T> best = closest_hit<T, P, F, Fields>(s, r);
     const Mask<T> hit = r.valid && best.cid >= T(0);
     const T cid = lane::keep(hit, best.cid);
     const Vec3<T> p = r.o + r.d * best.t;
     const Lookup<T> at(cid, hit);
-    const Vec3<T> n = face_forward(s, hit_normal<T, P, F>(s, at, r, load_residual<T>(rp, lane), best, p, hit), r, best);
+    const Vec3<T> ng = hit_normal<T, P, F>(s, at, r, load_residual<T>(rp, lane), best, p, hit);
+    const Vec3<T> n = face_forward(s, ng, r, best);
+    if constexpr (Fields) store_fields<T, F>(s, best, cid, hit, p, ng, *fields, lane);
     store(hp.t, lane, lane::select(hit, best.t, inf<T>()));
     T primitive = T(-1);
     if constexpr ((F & kTriangle) != 0) {
@@ -204,6 +237,16 @@ int intersect_packet(const PacketScene& scene, const RayPacket8& rp, HitPacket8&
     const SceneData& s = scene_data(scene);
     int masked = 0;
     for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) masked += intersect_lanes<T, P, F>(s, rp, hp, lane);
+    return masked;
+}
+
+// intersect_packet with the fields a caller asks for (HitFields).
+template <class T, Precision P, unsigned F>
+int intersect_fields_packet(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp, HitFields8& fields) noexcept {
+    const SceneData& s = scene_data(scene);
+    int masked = 0;
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>)
+        masked += intersect_lanes<T, P, F, true>(s, rp, hp, lane, &fields);
     return masked;
 }
 

@@ -31,11 +31,13 @@ inline Vec3<T> broadcast_run3(const TriangleRun& tri, int f, int j) {
     return {T(at[0]), T(at[tri.n]), T(at[2 * tri.n])};
 }
 
-// The j-th triangle of a run, its vertices broadcast.
+// The j-th triangle of a run, its vertices broadcast; `uv` (where given)
+// gets the hit's barycentrics.
 template <class T, Precision P>
-OCTRAY_HOT T test_triangle(const TriangleRun& tri, int j, const Ray<T, P>& r, Mask<T>& hit, const T& tbest) {
+OCTRAY_HOT T test_triangle(const TriangleRun& tri, int j, const Ray<T, P>& r, Mask<T>& hit, const T& tbest,
+                           T uv[2] = nullptr) {
     return intersect_triangle(r, broadcast_run3<T>(tri, kV0, j), broadcast_run3<T>(tri, kV1, j),
-                              broadcast_run3<T>(tri, kV2, j), hit, tbest);
+                              broadcast_run3<T>(tri, kV2, j), hit, tbest, uv);
 }
 
 // Sphere k; `near`: which root is the hit (sphere_hit).
@@ -80,17 +82,18 @@ struct LaneRay {
 // in the lanes; only the lanes of run_lanes(run.n - j) count.
 template <PrimitiveType Type, class T, Precision P>
 OCTRAY_HOT T test_run(const SceneData& s, const Run& run, int j, const Ray<T, P>& one, Mask<T>& hit, const T& tbest,
-                      Mask<T>& near) {
+                      Mask<T>& near, T uv[2] = nullptr) {
     if constexpr (Type == PrimitiveType::sphere) {
         const SphereArrays& a = s.spheres;
         const int k = run.k0 + j;
         const Vec3<T> c{load<T>(a.cx.data(), k), load<T>(a.cy.data(), k), load<T>(a.cz.data(), k)};
+        (void)uv;
         return intersect_sphere(one, c, SphereRadius<T>{load<T>(a.radius.data(), k)}, hit, tbest, near);
     } else {
         static_assert(Type == PrimitiveType::triangle, "run tests: spheres and triangles");
         (void)s, (void)near;
         return intersect_triangle(one, load_run3<T>(run.tri, kV0, j), load_run3<T>(run.tri, kV1, j),
-                                  load_run3<T>(run.tri, kV2, j), hit, tbest);
+                                  load_run3<T>(run.tri, kV2, j), hit, tbest, uv);
     }
 }
 
