@@ -11,7 +11,7 @@ import time
 
 from bench_report.bench_md import write_bench_md
 from bench_report.chart import plot_chart
-from bench_report.keys import PEAK, SCALE_KEYS, SUITE_KEYS
+from bench_report.keys import PEAK, SUITE_KEYS
 from bench_report.report import Report
 from bench_report.runs import TOOLS_DIR, load_medians, run
 from bench_report.summary import build_summary
@@ -93,12 +93,11 @@ def suite_main(a):
 
     summary = build_summary(a, rows, rep, peak)
     summary_path = os.path.join(a.out, "summary.json")
-    if os.path.exists(summary_path):  # keep the cost curve's keys (--scale merges into the same file)
+    if os.path.exists(summary_path):  # keep the other runs' keys (--scale, --counts, python-overhead)
         with open(summary_path) as f:
             earlier = json.load(f)
         for key, value in earlier.items():
-            if key.startswith("scale") or key in SCALE_KEYS:
-                summary[key] = value
+            summary.setdefault(key, value)
     with open(summary_path, "w") as f:
         json.dump(summary, f, indent=2)
         f.write("\n")
