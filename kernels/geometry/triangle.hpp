@@ -57,6 +57,11 @@ OCTRAY_HOT T intersect_triangle(const Ray<T, P>& r, const Vec3<T>& a, const Vec3
     const T lo = lane::min(e[0], lane::min(e[1], e[2])), hi = lane::max(e[0], lane::max(e[1], e[2]));
     // In the plane (or degenerate): all three are 0.
     const Mask<T> inside = (lo >= T(0) || hi <= T(0)) && (lo != T(0) || hi != T(0));
+    if (!lane::any(inside)) {  // most tests of a walk: no division, no depth
+        hit = Mask<T>(false);
+        if (bary) bary[0] = T(0), bary[1] = T(0);
+        return tbest;
+    }
     const T det = e[0] + e[1] + e[2];
     // IEEE in every mode: t decides the nearest primitive (intersect_plane).
     const T inv_det = T(1) / lane::select(inside, det, T(1));
