@@ -123,16 +123,17 @@ inline unsigned hull_boxes(const detail::Hull& h, float limit, const N lo[3], co
 
 namespace detail {
 
-// The lanes of `on` that enter child c of `node` before their tbest (the
-// packet walk's own test).
+// The lanes of `on` that enter child c of `node` before their tbest, with
+// the packet walk's slab values. A hull walk's reciprocals are finite
+// (make_hull), so each axis' near and far t are the min and max of the two
+// planes' (lo <= hi: rounding is monotone), no blend by each lane's sign.
 template <class T>
 inline Mask<T> lanes_entering(const Node8& node, int c, const RayView<T>& r, const Mask<T>& on, const T& tbest) {
     using S = lane::Scalar<T>;
     auto axis = [&](float lo, float hi, const T& o, const T& inv, T& enter, T& leave) {
-        const Mask<T> neg = inv < T(0);
-        const T l = T(S(lo)), h = T(S(hi));
-        enter = lane::max((lane::select(neg, h, l) - o) * inv, enter);
-        leave = lane::min((lane::select(neg, l, h) - o) * inv, leave);
+        const T t_lo = (T(S(lo)) - o) * inv, t_hi = (T(S(hi)) - o) * inv;
+        enter = lane::max(lane::min(t_lo, t_hi), enter);
+        leave = lane::min(lane::max(t_lo, t_hi), leave);
     };
     T enter = r.tmin, leave = tbest;
     axis(node.lo_z[c], node.hi_z[c], r.oz, r.inv_dz, enter, leave);
