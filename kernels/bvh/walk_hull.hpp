@@ -177,6 +177,7 @@ bool walk_hull(const Bvh8& bvh, const RayView<T>& r, const Mask<T>& active, cons
                 int idx[kWidth];
                 const int n = order_children(bits, entry, Closest, idx);
                 for (int a = 0; a + 1 < n; ++a) stack[top++] = {ref, std::int8_t(idx[a]), entry[idx[a]]};
+                if (n > 1) prefetch_child(bvh, node.child[idx[n - 2]]);
                 parent = ref, slot = idx[n - 1];
                 ref = node.child[slot];
                 continue;
