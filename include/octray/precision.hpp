@@ -33,7 +33,7 @@
 // within end_to_end_bound(mode) * kappa plus a sphere term, relative to the
 // pixel's radiance with every light at n.l = 1, on lanes where the packet path
 // and the reference hit the same primitive. Their derivations, and where each
-// holds: docs/accuracy.md, "Derivations of the stated bounds".
+// holds: docs/accuracy-derivations.md.
 #pragma once
 
 namespace octray {
