@@ -217,6 +217,8 @@ template <class Axis>
 // (the top of its stack once a node's entered children are pushed): a node's
 // four lines, or the first two of a leaf's block (place_leaf_blocks). Its
 // loads then overlap the walk of the nearer child instead of following it.
+// In a tree without blocks a leaf's ~ref is its number, and the prefetch
+// asks for some line of the node array: harmless (a prefetch never faults).
 inline void prefetch_child(const Bvh8& bvh, std::int32_t ref) {
     const char* at = ref >= 0 ? reinterpret_cast<const char*>(bvh.nodes.data() + ref)
                               : reinterpret_cast<const char*>(bvh.nodes.data()) + std::size_t(~ref) * sizeof(float);

@@ -232,22 +232,26 @@ inline int intersect_lanes(const SceneData& s, const RayPacket8& rp, HitPacket8&
     return masked;
 }
 
-template <class T, Precision P, unsigned F>
-int intersect_packet(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
+// Every lane group of a packet through intersect_lanes, with the fields
+// where a caller asks for them.
+template <class T, Precision P, unsigned F, bool Fields>
+inline int intersect_lane_groups(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp, HitFields8* fields) {
     const SceneData& s = scene_data(scene);
     int masked = 0;
-    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>) masked += intersect_lanes<T, P, F>(s, rp, hp, lane);
+    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>)
+        masked += intersect_lanes<T, P, F, Fields>(s, rp, hp, lane, fields);
     return masked;
+}
+
+template <class T, Precision P, unsigned F>
+int intersect_packet(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp) noexcept {
+    return intersect_lane_groups<T, P, F, false>(scene, rp, hp, nullptr);
 }
 
 // intersect_packet with the fields a caller asks for (HitFields).
 template <class T, Precision P, unsigned F>
 int intersect_fields_packet(const PacketScene& scene, const RayPacket8& rp, HitPacket8& hp, HitFields8& fields) noexcept {
-    const SceneData& s = scene_data(scene);
-    int masked = 0;
-    for (int lane = 0; lane < kPacketWidth; lane += lane::width<T>)
-        masked += intersect_lanes<T, P, F, true>(s, rp, hp, lane, &fields);
-    return masked;
+    return intersect_lane_groups<T, P, F, true>(scene, rp, hp, &fields);
 }
 
 }  // namespace octray::kernels::OCTRAY_ISA
